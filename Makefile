@@ -1,0 +1,33 @@
+# Quick start: `make demo` and `make test` work on a machine with only Python >= 3.11, pip and make.
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.filmscale-installed
+
+.PHONY: install demo test test-all benchmark clean
+
+install: $(STAMP)
+
+# Reinstalled when pyproject.toml changes; the install is editable, so code edits need none.
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || \
+	  { $(PYTHON) -m pip install --user -q virtualenv && $(PYTHON) -m virtualenv $(VENV); }
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[test]'
+	@touch $@
+
+demo: $(STAMP)
+	$(BIN)/filmscale impact-map examples/slider_corner_disk.toml \
+	  --out demo_output/impact_map.h5 --plot demo_output/impact_map.png
+
+test: $(STAMP)
+	$(BIN)/python -m pytest
+
+test-all: $(STAMP)
+	$(BIN)/python -m pytest -m ""
+
+benchmark: $(STAMP)
+	$(BIN)/python benchmarks/impact_speed_vs_error.py
+
+clean:
+	rm -rf demo_output .pytest_cache

@@ -1,0 +1,1 @@
+"""filmscale.continuum: contact, impact and indentation models in numpy/scipy (no LAMMPS)."""

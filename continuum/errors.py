@@ -1,0 +1,80 @@
+"""Errors raised by filmscale and the checks that raise them.
+
+`InputError` is bad input: a value outside its valid range, caught before any expensive work
+starts. `ModelRangeError` is a valid input that drives a model outside the range where its
+equations hold (an approach deeper than the sphere radius, say). The command line turns both
+into one line on stderr without a traceback.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+
+class InputError(ValueError):
+    """A parameter value outside its valid range; the message names the parameter."""
+
+
+class ModelRangeError(RuntimeError):
+    """Valid inputs that take a model outside the range where its equations hold."""
+
+
+def _fmt(value) -> str:
+    try:
+        return f"{float(value):.6g}"
+    except (TypeError, ValueError):
+        return repr(value)
+
+
+def check_real(name: str, value, *, low: float = -math.inf, high: float = math.inf,
+               low_open: bool = False, high_open: bool = False, unit: str = "") -> float:
+    """Return `value` as a float, or raise InputError naming `name`, its value and the range.
+
+    Rejects None, booleans, non-numbers, NaN and infinities (unless the range admits them).
+    """
+    if value is None or isinstance(value, bool):
+        raise InputError(f"{name} is missing or not a number (got {value!r})")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    lo_ok = x > low if low_open else x >= low
+    hi_ok = x < high if high_open else x <= high
+    if math.isnan(x) or not (lo_ok and hi_ok):
+        lb = "(" if low_open else "["
+        rb = ")" if high_open else "]"
+        u = f" {unit}" if unit else ""
+        raise InputError(f"{name} = {_fmt(value)}{u} is outside the valid range "
+                         f"{lb}{_fmt(low)}, {_fmt(high)}{rb}{u}")
+    return x
+
+
+def check_positive(name: str, value, unit: str = "") -> float:
+    """A finite number > 0."""
+    return check_real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True,
+                      unit=unit)
+
+
+def check_positive_array(name: str, values, unit: str = "") -> np.ndarray:
+    """A float array of finite values > 0 (scalars become 0-d arrays)."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be numbers, got {values!r}") from None
+    bad = ~np.isfinite(arr) | (arr <= 0)
+    if np.any(bad):
+        first = arr[bad].flat[0]
+        u = f" {unit}" if unit else ""
+        raise InputError(f"{name} contains {_fmt(first)}{u}: every value must be finite and > 0")
+    return arr
+
+
+def check_choice(name: str, value, choices: Iterable[str]) -> str:
+    """One of `choices` (strings)."""
+    choices = tuple(choices)
+    if value not in choices:
+        raise InputError(f"{name} = {value!r} is not one of: {', '.join(choices)}")
+    return value

@@ -1,0 +1,110 @@
+"""Closed-form Hertz contact, elastic impact and first yield of a sphere on a flat.
+
+These are reference solutions: the impact solvers are tested against them. All functions take
+SI values (m, N, Pa, kg, m/s) and broadcast over numpy arrays.
+
+Sources: Johnson, Contact Mechanics (1985), sections 4.2 and 11.4; physics.md sections 1-2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import beta as _beta
+from scipy.special import hyp2f1
+
+#: t_c V / delta_max for an elastic Hertz impact: (4/5) B(2/5, 1/2) = 2.943275...
+HERTZ_DURATION_FACTOR = 0.8 * _beta(0.4, 0.5)
+
+
+def hertz_force(delta, R, E_star):
+    """P = (4/3) E* R^(1/2) delta^(3/2), N (delta, R in m; E* in Pa)."""
+    return (4.0 / 3.0) * E_star * np.sqrt(R) * np.power(delta, 1.5)
+
+
+def hertz_contact_radius(delta, R):
+    """a = sqrt(R delta), m."""
+    return np.sqrt(R * delta)
+
+
+def hertz_mean_pressure(delta, R, E_star):
+    """p_m = P / (pi a^2) = (4 E* / (3 pi)) sqrt(delta / R), Pa."""
+    return (4.0 / (3.0 * np.pi)) * E_star * np.sqrt(delta / R)
+
+
+@dataclass(frozen=True)
+class ElasticImpact:
+    """Maxima of an elastic (Hertz) impact of a sphere of mass m at speed V; SI units."""
+
+    delta_max: np.ndarray       #: maximum approach, m
+    force_max: np.ndarray       #: maximum force, N
+    contact_radius_max: np.ndarray  #: m
+    mean_pressure_max: np.ndarray   #: Pa
+    contact_time: np.ndarray    #: s
+
+
+def elastic_impact(m, R, V, E_star) -> ElasticImpact:
+    """Hertz impact maxima (Johnson 1985 eq. 11.24-11.26).
+
+    delta_max = (15 m V^2 / (16 E* R^(1/2)))^(2/5); t_c = 2.943275 delta_max / V.
+    """
+    delta_max = np.power(15.0 * m * np.square(V) / (16.0 * E_star * np.sqrt(R)), 0.4)
+    return ElasticImpact(
+        delta_max=delta_max,
+        force_max=hertz_force(delta_max, R, E_star),
+        contact_radius_max=hertz_contact_radius(delta_max, R),
+        mean_pressure_max=hertz_mean_pressure(delta_max, R, E_star),
+        contact_time=HERTZ_DURATION_FACTOR * delta_max / V,
+    )
+
+
+def elastic_impact_time(delta, delta_max, V):
+    """Time to reach approach `delta` on the loading half of a Hertz impact, s.
+
+    t(delta) = (delta / V) 2F1(1/2, 2/5; 7/5; (delta/delta_max)^(5/2)), from integrating
+    dt = d(delta) / sqrt(V^2 (1 - (delta/delta_max)^(5/2))). Unloading mirrors it.
+    """
+    x = np.power(np.asarray(delta) / delta_max, 2.5)
+    return (np.asarray(delta) / V) * hyp2f1(0.5, 0.4, 1.4, x)
+
+
+# --- first yield (physics.md section 2) ------------------------------------------------------
+
+def yield_pressure_factor(nu):
+    """C(nu) = p0 / sigma_Y at first yield under a sphere: 1.295 exp(0.736 nu).
+
+    Fit of the exact on-axis von Mises result (1.613 at nu = 0.3; within 0.35 % for nu in
+    [0, 0.5]); Green (2005), Jackson & Green (2005).
+    """
+    return 1.295 * np.exp(0.736 * np.asarray(nu, dtype=float))
+
+
+@dataclass(frozen=True)
+class FirstYield:
+    """Onset of yield under an elastic sphere; SI units."""
+
+    approach: np.ndarray        #: delta_Y, m
+    contact_radius: np.ndarray  #: a_Y, m
+    force: np.ndarray           #: P_Y, N
+    max_pressure: np.ndarray    #: p0 at yield = C(nu) sigma_Y, Pa
+
+
+def first_yield(R, E_star, sigma_y, nu) -> FirstYield:
+    """delta_Y = (pi C sigma_Y / (2E*))^2 R, a_Y = pi C sigma_Y R / (2E*),
+    P_Y = (pi^3/6) (C sigma_Y)^3 R^2 / E*^2 (physics.md section 2)."""
+    p0 = yield_pressure_factor(nu) * sigma_y
+    a_y = np.pi * p0 * R / (2.0 * E_star)
+    return FirstYield(approach=a_y**2 / R, contact_radius=a_y,
+                      force=(np.pi**3 / 6.0) * p0**3 * np.square(R) / np.square(E_star),
+                      max_pressure=p0)
+
+
+def yield_velocity(m, R, E_star, sigma_y, nu):
+    """Impact velocity at which first yield is just reached, m/s.
+
+    V_Y^2 = (pi^5 / 30) (C sigma_Y)^5 R^3 / (E*^4 m): the kinetic energy equals the Hertz
+    work (2/5) P_Y delta_Y.
+    """
+    p0 = yield_pressure_factor(nu) * sigma_y
+    return np.sqrt((np.pi**5 / 30.0) * p0**5 * np.power(R, 3) / (np.power(E_star, 4) * m))

@@ -1,0 +1,656 @@
+"""Normal impact of a sphere (mass m, radius R, velocity V) on a homogeneous or layered target.
+
+m d2(delta)/dt2 = -P(delta), delta(0) = 0, d(delta)/dt(0) = V (the seed dissertation's
+eq. 3.1): loading follows a contact law, unloading is Hertzian from the crater (or another
+residual-depth model, see `restitution`). Two solution paths that must agree:
+
+- `ImpactModel.maxima` (fast path, vectorised over arrays of V, R and m): delta_max from the
+  energy balance integral_0^delta_max P d(delta) = m V^2 / 2 by safeguarded Newton on a
+  Gauss-Legendre quadrature; loading time by quadrature of d(delta)/v(delta) in the variable
+  u = sqrt(1 - delta/delta_max), which removes the square-root singularity at delta_max;
+  unloading time in closed form (the unloading law is Hertzian).
+- `ImpactModel.history` (time-integrated): scipy `solve_ivp` with terminal, directional
+  events for contact, regime changes, maximum penetration and separation; full histories.
+
+Every quadrature piece stops at the regime breakpoints (first crossings of the law's
+thresholds) and spans at most a factor 2 in delta, so each piece integrates a smooth function.
+Units: SI throughout (m, kg, m/s, N, Pa, s, J).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import elementwise, minimize_scalar
+
+from .contact_laws import ContactLaw
+from .errors import (InputError, ModelRangeError, check_choice, check_positive,
+                     check_positive_array, check_real)
+from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
+from .materials import ElasticPlastic, reduced_modulus
+from .profiles import DepthProfile, profile_for
+from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
+from .restitution import UNLOADING_MODELS, Unloading, unload
+
+#: status codes of a fast-path point
+OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT = 0, 1, 2
+STATUS_MESSAGES = {
+    OK: "ok",
+    EXCEEDS_RADIUS: "the approach would exceed the sphere radius R, where the contact laws "
+                    "stop holding: not computed",
+    UNLOADING_INCONSISTENT: "the unloading model returns more energy than the loading took "
+                            "(elastic recovery above the approach or e_y > 1): an artefact of "
+                            "a contact law that jumps at its yield point",
+}
+
+_NODES = 12           # Gauss-Legendre nodes per quadrature piece
+_GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
+_TIME_OCTAVES = 8      # loading-time pieces: delta_max x (1, 3/4, 1/2, ..., 2^-8), then to 0
+_SCAN_PER_OCTAVE = 4   # severity scan for breakpoints in depth-dependent targets
+_T_BOUND = 1e6        # integration limit in units of delta_ref / V (events end it earlier)
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """One impact; SI units. ``status``/``message`` say whether it holds (see STATUS_MESSAGES)."""
+
+    velocity: float             #: V, incident normal velocity, m/s
+    radius: float               #: R, m
+    mass: float                 #: m, kg
+    delta_max: float            #: maximum approach, m
+    force_max: float            #: largest contact force, N
+    mean_pressure_max: float    #: largest mean contact pressure P/A, Pa
+    contact_radius_max: float   #: largest contact radius, m
+    contact_time: float         #: duration of contact, s
+    loading_time: float         #: contact to maximum approach, s
+    unloading_time: float       #: maximum approach to separation, s
+    residual_depth: float       #: depth of the crater left behind, m
+    restitution: float          #: e_y = rebound speed / V
+    rebound_velocity: float     #: m/s
+    yielded: bool               #: the law's first-yield threshold was reached
+    regime: str                 #: regime at maximum approach
+    yield_approach: float       #: approach at first yield, m (inf if never reached before R)
+    yield_velocity: float       #: impact speed that just reaches first yield, m/s
+    contact_law: str
+    unloading: str
+    path: str                   #: "energy-quadrature" or "time-integration"
+    status: int = OK
+    message: str = "ok"
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["warnings"] = list(self.warnings)
+        return d
+
+    def summary(self) -> str:
+        lines = [
+            f"Impact of a sphere R = {self.radius:.4g} m, m = {self.mass:.4g} kg at "
+            f"V = {self.velocity:.4g} m/s ({self.contact_law}, unloading: {self.unloading}, "
+            f"{self.path})",
+            f"  maximum approach      {self.delta_max:.6g} m",
+            f"  maximum force         {self.force_max:.6g} N",
+            f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
+            f"  maximum contact radius {self.contact_radius_max:.6g} m",
+            f"  contact time          {self.contact_time:.6g} s "
+            f"(loading {self.loading_time:.4g} s, unloading {self.unloading_time:.4g} s)",
+            f"  residual depth        {self.residual_depth:.6g} m",
+            f"  restitution e_y       {self.restitution:.6f}",
+            f"  regime reached        {self.regime} "
+            f"({'yielded' if self.yielded else 'no yield'}; first yield at "
+            f"V_Y = {self.yield_velocity:.4g} m/s)",
+        ]
+        if self.status != OK:
+            lines.append(f"  status: {self.message}")
+        lines += [f"  warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class ImpactMaxima:
+    """Fast-path results over arrays of (V, R, m); every field has the broadcast shape.
+
+    Points with ``status == EXCEEDS_RADIUS`` hold NaN (regime -1).
+    """
+
+    velocity: np.ndarray
+    radius: np.ndarray
+    mass: np.ndarray
+    delta_max: np.ndarray
+    force_max: np.ndarray
+    mean_pressure_max: np.ndarray
+    contact_radius_max: np.ndarray
+    contact_time: np.ndarray
+    loading_time: np.ndarray
+    unloading_time: np.ndarray
+    residual_depth: np.ndarray
+    restitution: np.ndarray
+    rebound_velocity: np.ndarray
+    yielded: np.ndarray
+    regime: np.ndarray          #: branch index into ``regime_names``
+    yield_approach: np.ndarray
+    yield_velocity: np.ndarray
+    status: np.ndarray
+    regime_names: tuple[str, ...]
+    contact_law: str
+    unloading: str
+    warnings: tuple[str, ...] = ()
+
+    #: fields holding arrays of floats in SI, with their units
+    UNITS = {"velocity": "m/s", "radius": "m", "mass": "kg", "delta_max": "m",
+             "force_max": "N", "mean_pressure_max": "Pa", "contact_radius_max": "m",
+             "contact_time": "s", "loading_time": "s", "unloading_time": "s",
+             "residual_depth": "m", "restitution": "1", "rebound_velocity": "m/s",
+             "yield_approach": "m", "yield_velocity": "m/s"}
+
+    def result(self, index=()) -> ImpactResult:
+        """The single impact at ``index``; raises ModelRangeError if it was not computed."""
+        status = int(self.status[index])
+        if status == EXCEEDS_RADIUS:
+            raise ModelRangeError(
+                f"approach exceeds the sphere radius at V = {self.velocity[index]:.6g} m/s, "
+                f"R = {self.radius[index]:.6g} m, m = {self.mass[index]:.6g} kg: the contact "
+                f"laws hold for delta <= R only")
+        values = {k: float(getattr(self, k)[index]) for k in self.UNITS}
+        return ImpactResult(**values, yielded=bool(self.yielded[index]),
+                            regime=self.regime_names[int(self.regime[index])],
+                            contact_law=self.contact_law, unloading=self.unloading,
+                            path="energy-quadrature", status=status,
+                            message=STATUS_MESSAGES[status], warnings=self.warnings)
+
+
+@dataclass(frozen=True)
+class ImpactHistory:
+    """Time-integrated impact: the maxima plus sampled histories (SI units).
+
+    ``phase`` is 0 before contact, 1 loading, 2 unloading; ``branch`` the law's regime index.
+    """
+
+    result: ImpactResult
+    time: np.ndarray            #: s
+    delta: np.ndarray           #: approach, m (negative before contact)
+    velocity: np.ndarray        #: d(delta)/dt, m/s
+    force: np.ndarray           #: N
+    contact_radius: np.ndarray  #: m
+    mean_pressure: np.ndarray   #: Pa
+    branch: np.ndarray
+    phase: np.ndarray
+    events: dict = field(default_factory=dict)  #: event name -> time, s
+    nfev: int = 0               #: contact-force evaluations by the integrator
+
+
+@dataclass(frozen=True)
+class ImpactModel:
+    """A target, a contact law, an impactor material (None: rigid) and an unloading model.
+
+    Parameters
+    ----------
+    target : DepthProfile, LayerStack or ElasticPlastic
+        What is hit; stacks are weighted with `StackProfile`.
+    law : ContactLaw
+        Loading law (see `contact_laws.contact_law`).
+    impactor : ElasticPlastic or None
+        Elastic impactor material, entering the reduced modulus; None for a rigid sphere.
+    unloading : str
+        "auto" (the law's ``default_unloading``) or one of restitution.UNLOADING_MODELS.
+    """
+
+    target: DepthProfile
+    law: ContactLaw
+    impactor: ElasticPlastic | None = None
+    unloading: str = "auto"
+
+    def __post_init__(self):
+        object.__setattr__(self, "target", profile_for(self.target))
+        if not isinstance(self.law, ContactLaw):
+            raise InputError(f"law must be a ContactLaw, got {type(self.law).__name__}")
+        check_choice("unloading", self.unloading, ("auto",) + UNLOADING_MODELS)
+        if self.unloading == "auto":
+            object.__setattr__(self, "unloading", self.law.default_unloading)
+
+    # --- local physics ---------------------------------------------------------------------
+
+    def properties(self, delta, R):
+        """(E*, sigma_y, nu) felt at approach delta by a sphere of radius R."""
+        e_p, sigma_y, nu = self.target.properties(delta, R)
+        return reduced_modulus(e_p, self.impactor), sigma_y, nu
+
+    def _severity(self, delta, R):
+        return self.law.severity(delta, R, *self.properties(delta, R))
+
+    def _force_area(self, delta, R, branch):
+        return self.law.force_area(delta, R, *self.properties(delta, R), branch)
+
+    def _force(self, delta, R, branch):
+        return self._force_area(delta, R, branch)[0]
+
+    def warnings(self) -> tuple[str, ...]:
+        """What the model leaves out for this target."""
+        target = self.target
+        materials = ([target.material] if hasattr(target, "material")
+                     else list(target.stack.materials()) if hasattr(target, "stack") else [])
+        hardening = [f"{mat.name or 'material'} n={mat.n:g}" for mat in materials if mat.n > 0]
+        if not hardening:
+            return ()
+        return (f"hardening exponents ({', '.join(hardening)}) are ignored: the contact laws "
+                f"are elastic-perfectly plastic",)
+
+    # --- regime breakpoints -------------------------------------------------------------------
+
+    def breakpoints(self, R) -> np.ndarray:
+        """Approach (m) at the first crossing of each threshold for each R (shape R.shape +
+        (n_thresholds,)); inf where not reached at delta <= R."""
+        R = np.asarray(R, dtype=float)
+        thr = np.asarray(self.law.thresholds)
+        if self.target.uniform:
+            props = [p[..., None] for p in self.properties(np.zeros_like(R), R)]
+            bp = self.law.approach_at_severity(thr, R[..., None], *props)
+        else:
+            bp = self._scan_breakpoints(R.ravel(), thr).reshape(R.shape + thr.shape)
+        return np.where(bp <= R[..., None], bp, np.inf)
+
+    def _scan_breakpoints(self, R, thr):
+        octaves = 50
+        rel = 2.0 ** np.linspace(-octaves, 0.0, octaves * _SCAN_PER_OCTAVE + 1)
+        grid = R[:, None] * rel
+        sev = self._severity(grid, R[:, None])
+        out = np.full((R.size, thr.size), np.inf)
+        for k, level in enumerate(thr):
+            above = sev >= level
+            found = above.any(axis=1)
+            if not found.any():
+                continue
+            idx = np.argmax(above, axis=1)[found]
+            rows = np.nonzero(found)[0]
+            hi = grid[rows, idx]
+            lo = np.where(idx > 0, grid[rows, np.maximum(idx - 1, 0)], 0.0)
+            root = elementwise.find_root(
+                lambda d, r: self._severity(d, r) - level, (lo, hi), args=(R[rows],))
+            out[rows, k] = root.x
+        return out
+
+    # --- fast path ------------------------------------------------------------------------
+
+    def _work_table(self, R, bp):
+        """Cumulative loading work at edges from 0 to R for each R (rows)."""
+        rel = 2.0 ** -np.arange(_GEOMETRIC_DEPTH, -1, -1.0)
+        knots = self.target.knots()
+        extra = np.concatenate([np.where(np.isfinite(bp), bp, R[:, None]),
+                                np.broadcast_to(np.minimum(knots, R[:, None]),
+                                                (R.size, knots.size))], axis=1)
+        edges = np.sort(np.concatenate([np.zeros((R.size, 1)), R[:, None] * rel, extra],
+                                       axis=1), axis=1)
+        branch = np.sum(bp[:, None, :] <= edges[:, :-1, None], axis=-1)
+        seg = integrate(lambda d: self._force(d, R[:, None, None], branch[..., None]),
+                        edges[:, :-1], edges[:, 1:], n=_NODES)
+        work = np.concatenate([np.zeros((R.size, 1)), np.cumsum(seg, axis=1)], axis=1)
+        return edges, branch, work
+
+    def _solve_approach(self, energy, R, lo, hi, w_lo, w_hi, branch):
+        """delta with W(lo) + integral_lo^delta P = energy, by Newton kept inside [lo, hi].
+
+        Each point stops once its step or its bracket is within a few ulps of delta.
+        """
+        frac = np.clip((energy - w_lo) / np.where(w_hi > w_lo, w_hi - w_lo, 1.0), 0.0, 1.0)
+        x = lo + (hi - lo) * frac
+        a, b = lo.copy(), hi.copy()
+        active = np.arange(x.size)
+        for _ in range(60):
+            r, br, lo_k, xk = R[active], branch[active], lo[active], x[active]
+            f = w_lo[active] + integrate(lambda d: self._force(d, r[:, None], br[:, None]),
+                                         lo_k, xk, n=_NODES) - energy[active]
+            ak = np.where(f <= 0, xk, a[active])
+            bk = np.where(f > 0, xk, b[active])
+            fp = self._force(xk, r, br)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                x_new = xk - np.where(fp > 0, f / fp, np.inf)
+            x_new = np.where((x_new >= ak) & (x_new <= bk), x_new, 0.5 * (ak + bk))
+            a[active], b[active], x[active] = ak, bk, x_new
+            tol = 4e-16 * np.abs(x_new)
+            done = (np.abs(x_new - xk) <= tol) | (bk - ak <= tol)
+            active = active[~done]
+            if active.size == 0:
+                break
+        return x
+
+    def maxima(self, velocity, radius, mass) -> ImpactMaxima:
+        """Maxima of the impacts at every broadcast (V, R, m) by energy quadrature."""
+        V = check_positive_array("velocity", velocity, "m/s")
+        R = check_positive_array("radius", radius, "m")
+        m = check_positive_array("mass", mass, "kg")
+        V, R, m = np.broadcast_arrays(V, R, m)
+        shape = V.shape
+        V, R, m = V.ravel(), R.ravel(), m.ravel()
+        energy = 0.5 * m * V**2
+
+        r_unique, inv = np.unique(R, return_inverse=True)
+        bp_u = self.breakpoints(r_unique)
+        edges, branches, work = self._work_table(r_unique, bp_u)
+        bp = bp_u[inv]
+        yield_work = np.array([np.interp(b, e, w) if np.isfinite(b) else np.inf
+                               for b, e, w in zip(bp_u[:, 0], edges, work)])[inv]
+
+        status = np.where(energy > work[inv, -1], EXCEEDS_RADIUS, OK)
+        ok = np.nonzero(status == OK)[0]
+        n_fields = {k: np.full(V.size, np.nan) for k in ImpactMaxima.UNITS}
+        n_fields.update(velocity=V, radius=R, mass=m, yield_approach=bp[:, 0],
+                        yield_velocity=np.sqrt(2.0 * yield_work / m))
+        regime = np.full(V.size, -1)
+        yielded = np.zeros(V.size, dtype=bool)
+
+        if ok.size:
+            r = inv[ok]
+            e_ok, R_ok, m_ok, V_ok, bp_ok = energy[ok], R[ok], m[ok], V[ok], bp[ok]
+            j = np.sum(work[r] <= e_ok[:, None], axis=1) - 1
+            j = np.minimum(j, edges.shape[1] - 2)
+            branch = branches[r, j]
+            d_max = self._solve_approach(e_ok, R_ok, edges[r, j], edges[r, j + 1],
+                                         work[r, j], work[r, j + 1], branch)
+            hist = self._loading_history(d_max, e_ok, R_ok, m_ok, bp_ok, branch)
+            estar_max = self.properties(d_max, R_ok)[0]
+            unl = unload(self.unloading, delta_max=d_max, force_max=hist["force_end"],
+                         area_max=hist["area_end"], E_star=estar_max, R=R_ok,
+                         yield_approach=bp_ok[:, 0])
+            e_y = np.sqrt(unl.work / e_ok)
+            v_out = e_y * V_ok
+            t_unload = 0.5 * HERTZ_DURATION_FACTOR * unl.elastic_recovery / v_out
+            bad = (unl.residual_depth < -1e-12 * d_max) | (e_y > 1.0 + 1e-12)
+            status[ok] = np.where(bad, UNLOADING_INCONSISTENT, OK)
+            n_fields["delta_max"][ok] = d_max
+            n_fields["force_max"][ok] = hist["force_max"]
+            n_fields["mean_pressure_max"][ok] = hist["mean_pressure_max"]
+            n_fields["contact_radius_max"][ok] = np.sqrt(hist["area_max"] / np.pi)
+            n_fields["loading_time"][ok] = hist["time"]
+            n_fields["unloading_time"][ok] = t_unload
+            n_fields["contact_time"][ok] = hist["time"] + t_unload
+            n_fields["residual_depth"][ok] = unl.residual_depth
+            n_fields["restitution"][ok] = e_y
+            n_fields["rebound_velocity"][ok] = v_out
+            regime[ok] = branch
+            yielded[ok] = branch >= 1
+
+        return ImpactMaxima(**{k: v.reshape(shape) for k, v in n_fields.items()},
+                            yielded=yielded.reshape(shape), regime=regime.reshape(shape),
+                            status=status.reshape(shape), regime_names=self.law.regime_names,
+                            contact_law=self.law.name, unloading=self.unloading,
+                            warnings=self.warnings())
+
+    def _loading_history(self, d_max, energy, R, m, bp, branch_end):
+        """Loading time and the largest force, area and mean pressure over the loading.
+
+        Pieces in delta end at d_max (3/4, 1/2, 1/4, ... 2^-8) and at the breakpoints below
+        d_max; in each, Gauss nodes in u = sqrt(1 - delta/d_max). In u the nearest singularity
+        (delta = 0) then lies at least 2.7 half-widths from every piece (Bernstein rho >= 5). E - W(delta) = integral_delta^d_max P is
+        accumulated from d_max down with the spectral running-integral matrix.
+        """
+        n = _NODES
+        x, w = gauss_legendre_unit(n)
+        cum = cumulative_matrix_unit(n)
+        geo = d_max[:, None] * np.concatenate([[0.75], 2.0 ** -np.arange(_TIME_OCTAVES + 1)])
+        knots = np.broadcast_to(self.target.knots(), (d_max.size, self.target.knots().size))
+        cuts = np.concatenate([geo, bp, knots, np.zeros((d_max.size, 1))], axis=1)
+        cuts = np.where(cuts <= d_max[:, None], cuts, d_max[:, None])
+        u_edges = np.sort(np.sqrt(np.clip(1.0 - cuts / d_max[:, None], 0.0, 1.0)), axis=1)
+        du = np.diff(u_edges, axis=1)                                  # (N, pieces)
+        u = u_edges[:, :-1, None] + du[..., None] * x                  # (N, pieces, n)
+        delta = d_max[:, None, None] * (1.0 - u * u)
+        branch = np.sum(bp[:, None, None, :] <= delta[..., None], axis=-1)
+        force, area = self._force_area(delta, R[:, None, None], branch)
+        g = force * 2.0 * d_max[:, None, None] * u                     # dW/du
+        piece_total = du * (g @ w)
+        start = np.concatenate([np.zeros((d_max.size, 1)), np.cumsum(piece_total, axis=1)[:, :-1]],
+                               axis=1)
+        remaining = start[..., None] + du[..., None] * np.einsum("ij,npj->npi", cum, g)
+        speed = np.sqrt(2.0 * remaining / m[:, None, None])
+        dt_du = np.divide(2.0 * d_max[:, None, None] * u, speed, out=np.zeros_like(u),
+                          where=speed > 0)       # zero-length pieces have u = speed = 0
+        time = np.sum(du * (dt_du @ w), axis=1)
+
+        # candidates for maxima: nodes, the left limits at breakpoints, and d_max itself
+        f_end, a_end = self._force_area(d_max, R, branch_end)
+        bp_in = np.where(bp < d_max[:, None], bp, d_max[:, None])
+        f_left, a_left = self._force_area(bp_in, R[:, None], np.arange(bp.shape[1]))
+        crossed = bp < d_max[:, None]          # thresholds not crossed have no left limit
+        f_left = np.where(crossed, f_left, f_end[:, None])
+        a_left = np.where(crossed, a_left, a_end[:, None])
+        cand_d = np.concatenate([delta.reshape(d_max.size, -1), bp_in, d_max[:, None]], axis=1)
+        cand_f = np.concatenate([force.reshape(d_max.size, -1), f_left, f_end[:, None]], axis=1)
+        cand_a = np.concatenate([area.reshape(d_max.size, -1), a_left, a_end[:, None]], axis=1)
+        out = {"time": time, "force_end": f_end, "area_end": a_end}
+        for key in ("force_max", "area_max", "mean_pressure_max"):
+            out[key] = self._refined_max(key, _quantity(key, cand_f, cand_a), cand_d, d_max,
+                                         R, bp)
+        return out
+
+    def _refined_max(self, key, values, cand_d, d_max, R, bp):
+        """Largest value over the candidates; an interior maximum at a Gauss node is refined
+        by a bracketed minimisation of -q(delta)."""
+        order = np.argsort(cand_d, axis=1, kind="stable")
+        d_sorted = np.take_along_axis(cand_d, order, axis=1)
+        v_sorted = np.take_along_axis(values, order, axis=1)
+        k = np.argmax(v_sorted, axis=1)
+        best = v_sorted[np.arange(k.size), k]
+        interior = (k > 0) & (k < d_sorted.shape[1] - 1)
+        interior &= ~np.any(np.isclose(d_sorted[np.arange(k.size), k][:, None],
+                                       np.concatenate([bp, d_max[:, None]], axis=1),
+                                       rtol=1e-14, atol=0), axis=1)
+        rows = np.nonzero(interior)[0]
+        if rows.size:
+            kk = k[rows]
+            lo, mid, hi = (d_sorted[rows, kk - 1], d_sorted[rows, kk], d_sorted[rows, kk + 1])
+            bp_rows = bp[rows]
+
+            def negative(d, r, b0):
+                branch = np.sum(b0 <= d[..., None], axis=-1)
+                return -_quantity(key, *self._force_area(d, r, branch))
+
+            # bp rows travel as separate columns so that find_minimum can slice them
+            res = elementwise.find_minimum(
+                lambda d, r, *cols: negative(d, r, np.stack(cols, axis=-1)),
+                (lo, mid, hi), args=(R[rows], *bp_rows.T))
+            best[rows] = np.maximum(best[rows], -res.f_x)
+        return best
+
+    def first_yield(self, radius, mass):
+        """(approach, velocity) at first yield for each broadcast (R, m); inf if not before R."""
+        res = self.maxima(np.ones(np.broadcast(radius, mass).shape), radius, mass)
+        return res.yield_approach, res.yield_velocity
+
+    # --- time-integrated path ----------------------------------------------------------------
+
+    def history(self, velocity, radius, mass, *, rtol=1e-10, gap=0.0, samples=400,
+                method="DOP853") -> ImpactHistory:
+        """One impact integrated in time with solve_ivp and events.
+
+        Parameters
+        ----------
+        velocity, radius, mass : float
+            V (m/s), R (m), m (kg).
+        rtol : float
+            Relative tolerance of the integrator (absolute tolerance rtol x the scales below).
+        gap : float
+            Initial distance to the surface, m: the sphere flies freely until the contact event.
+        samples : int
+            Points of dense output per phase in the returned histories.
+        """
+        V = check_positive("velocity", velocity, "m/s")
+        R = check_positive("radius", radius, "m")
+        m = check_positive("mass", mass, "kg")
+        rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
+        gap = check_real("gap", gap, low=0.0, high=math.inf, high_open=True, unit="m")
+        law = self.law
+        thr = law.thresholds
+        # scales: the Hertz impact against the surface's modulus
+        d_ref = float(elastic_impact(m, R, V, self.properties(0.0, R)[0]).delta_max)
+        t_ref = d_ref / V
+        accel = d_ref / (m * V * V)
+        if self.target.uniform:
+            e0, s0, n0 = (float(p) for p in self.properties(0.0, R))
+
+            def force_area(d, b):
+                return law.force_area(d, R, e0, s0, n0, b)
+
+            def severity(d):
+                return law.severity(d, R, e0, s0, n0)
+        else:
+            def force_area(d, b):
+                return self._force_area(d, R, b)
+
+            def severity(d):
+                return self._severity(d, R)
+
+        nfev = [0]
+
+        def rhs_loading(branch):
+            def rhs(_, y):
+                d = y[0] * d_ref
+                nfev[0] += 1
+                p = float(force_area(d, branch)[0]) if d > 0 else 0.0
+                return [y[1], -p * accel]
+            return rhs
+
+        def event(fun, direction):
+            fun.terminal, fun.direction = True, direction
+            return fun
+
+        pieces, events = [], {}
+        y0, t0 = np.array([-gap / d_ref, 1.0]), 0.0
+        options = dict(method=method, rtol=rtol, atol=rtol * 1e-3, dense_output=True)
+        if gap > 0:
+            sol = solve_ivp(lambda t, y: [y[1], 0.0], (0.0, _T_BOUND), y0,
+                            events=[event(lambda t, y: y[0], 1)], **options)
+            pieces.append((sol, 0, 0))
+            t0, y0 = sol.t_events[0][0], sol.y_events[0][0]
+        events["contact"] = t0 * t_ref
+        branch = 0
+        left_limits = []
+        while True:
+            evs = [event(lambda t, y: y[1], -1),
+                   event(lambda t, y: y[0] - R / d_ref, 1)]
+            if branch < len(thr):
+                level = thr[branch]
+                evs.append(event(lambda t, y: float(severity(max(y[0], 0.0) * d_ref)) - level, 1))
+            sol = solve_ivp(rhs_loading(branch), (t0, t0 + _T_BOUND), y0, events=evs, **options)
+            pieces.append((sol, 1, branch))
+            hit = [i for i, te in enumerate(sol.t_events) if te.size]
+            if not hit or sol.status < 0:
+                raise RuntimeError(f"time integration stopped without an event: {sol.message}")
+            i = min(hit, key=lambda k: sol.t_events[k][0])
+            t0, y0 = sol.t_events[i][0], sol.y_events[i][0].copy()
+            if i == 0:
+                break
+            if i == 1:
+                raise ModelRangeError(f"approach exceeds the sphere radius at V = {V:.6g} m/s, "
+                                      f"R = {R:.6g} m, m = {m:.6g} kg: the contact laws hold "
+                                      f"for delta <= R only")
+            left_limits.append((y0[0] * d_ref, branch))
+            events[f"regime {law.regime_names[branch + 1]}"] = t0 * t_ref
+            branch += 1
+        d_max = y0[0] * d_ref
+        events["maximum approach"] = t0 * t_ref
+        f_end, a_end = (float(v) for v in force_area(d_max, branch))
+        e_max = float(self.properties(d_max, R)[0])
+        yield_approach = (left_limits[0][0] if left_limits
+                          else float(self.breakpoints(np.array([R]))[0, 0]))
+        unl = unload(self.unloading, delta_max=d_max, force_max=f_end, area_max=a_end,
+                     E_star=e_max, R=R, yield_approach=yield_approach)
+        residual = float(unl.residual_depth)
+
+        def rhs_unloading(_, y):
+            nfev[0] += 1
+            return [y[1], -float(unl.force(y[0] * d_ref, e_max)) * accel]
+
+        sol = solve_ivp(rhs_unloading, (t0, t0 + _T_BOUND), y0,
+                        events=[event(lambda t, y: y[0] - residual / d_ref, -1)], **options)
+        pieces.append((sol, 2, branch))
+        t_sep, y_sep = sol.t_events[0][0], sol.y_events[0][0]
+        events["separation"] = t_sep * t_ref
+
+        time, delta, vel, phase, branch_arr = [], [], [], [], []
+        for sol_k, ph, br in pieces:
+            ts = np.unique(np.concatenate([sol_k.t, np.linspace(sol_k.t[0], sol_k.t[-1], samples)]))
+            ys = sol_k.sol(ts)
+            time.append(ts * t_ref)
+            delta.append(ys[0] * d_ref)
+            vel.append(ys[1] * V)
+            phase.append(np.full(ts.size, ph))
+            branch_arr.append(np.full(ts.size, br))
+        time, delta, vel, phase, branch_arr = map(np.concatenate,
+                                                  (time, delta, vel, phase, branch_arr))
+        force = np.zeros_like(delta)
+        area = np.zeros_like(delta)
+        load = (phase == 1) & (delta > 0)
+        for b in np.unique(branch_arr[load]):
+            sel = load & (branch_arr == b)
+            force[sel], area[sel] = force_area(delta[sel], int(b))
+        unload_sel = phase == 2
+        force[unload_sel] = unl.force(delta[unload_sel], e_max)
+        a_unl = np.sqrt(np.maximum(delta[unload_sel] - residual, 0.0) * unl.radius)
+        area[unload_sel] = np.pi * a_unl**2
+        mean_p = np.divide(force, area, out=np.zeros_like(force), where=area > 0)
+
+        maxima = {}
+        loading = [(s, b) for s, ph, b in pieces if ph == 1]
+        for key in ("force_max", "area_max", "mean_pressure_max"):
+            best = max([float(_quantity(key, f_end, a_end))]
+                       + [float(_quantity(key, *force_area(d, b))) for d, b in left_limits])
+            for sol_k, b in loading:
+                ts = np.linspace(sol_k.t[0], sol_k.t[-1], 8 * samples)
+                q = _quantity(key, *force_area(np.maximum(sol_k.sol(ts)[0] * d_ref, 0.0), b))
+                k = int(np.argmax(q))
+                best = max(best, float(q[k]))
+                if 0 < k < ts.size - 1:   # interior maximum: refine on the dense output
+                    def negative(t, sol_k=sol_k, b=b, key=key):
+                        d = max(float(sol_k.sol(t)[0]) * d_ref, 0.0)
+                        return -float(_quantity(key, *force_area(d, b)))
+                    res = minimize_scalar(negative, bounds=(ts[k - 1], ts[k + 1]),
+                                          method="bounded", options={"xatol": 1e-14 * ts[-1]})
+                    best = max(best, -res.fun)
+            maxima[key] = best
+
+        e_y = -y_sep[1]
+        status = OK if (residual >= -1e-12 * d_max and e_y <= 1.0 + 1e-12) else UNLOADING_INCONSISTENT
+        yield_work = (float(integrate(lambda d: force_area(d, 0)[0], 0.0, yield_approach, n=16))
+                      if np.isfinite(yield_approach) else math.inf)
+        result = ImpactResult(
+            velocity=V, radius=R, mass=m, delta_max=d_max, force_max=maxima["force_max"],
+            mean_pressure_max=maxima["mean_pressure_max"],
+            contact_radius_max=math.sqrt(maxima["area_max"] / math.pi),
+            contact_time=(t_sep * t_ref) - events["contact"],
+            loading_time=events["maximum approach"] - events["contact"],
+            unloading_time=events["separation"] - events["maximum approach"],
+            residual_depth=residual, restitution=e_y, rebound_velocity=e_y * V,
+            yielded=branch >= 1, regime=law.regime_names[branch],
+            yield_approach=yield_approach,
+            yield_velocity=float(np.sqrt(2.0 * yield_work / m)),
+            contact_law=law.name, unloading=self.unloading, path="time-integration",
+            status=status, message=STATUS_MESSAGES[status], warnings=self.warnings())
+        return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
+                             contact_radius=np.sqrt(area / np.pi), mean_pressure=mean_p,
+                             branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
+
+
+def _quantity(key, force, area):
+    """Force, area or mean pressure P/A (0 where A = 0) from arrays of force and area."""
+    force, area = np.asarray(force, dtype=float), np.asarray(area, dtype=float)
+    if key == "force_max":
+        return force
+    if key == "area_max":
+        return area
+    return np.divide(force, area, out=np.zeros(np.broadcast(force, area).shape), where=area > 0)
+
+
+def impact(target, law, velocity, radius, mass, *, impactor=None, unloading="auto",
+           path="fast", **options) -> ImpactResult:
+    """One impact by the fast path (``path="fast"``) or time integration (``"time"``).
+
+    Raises ModelRangeError when the approach would exceed R. See `ImpactModel`.
+    """
+    check_choice("path", path, ("fast", "time"))
+    model = ImpactModel(target, law, impactor, unloading)
+    if path == "time":
+        return model.history(velocity, radius, mass, **options).result
+    return model.maxima(velocity, radius, mass).result(())

@@ -1,0 +1,127 @@
+"""Isotropic elastic-plastic materials, the reduced modulus, and layer stacks.
+
+Units: E and sigma_y in Pa, thickness in m. The reduced (effective) modulus follows
+1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 1985, eq. 4.22); some
+texts write E' = 2 E*, this package never does.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .errors import InputError, check_positive, check_real
+
+
+@dataclass(frozen=True)
+class ElasticPlastic:
+    """Isotropic elastic-plastic material with power-law hardening.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus, Pa.
+    nu : float
+        Poisson ratio, in (-1, 0.5).
+    sigma_y : float
+        Uniaxial yield strength, Pa; ``math.inf`` for a material that never yields.
+    n : float
+        Power-law hardening exponent in [0, 1): sigma = sigma_y (1 + E eps_p / sigma_y)^n
+        (Dao et al. 2001). The impact contact laws are elastic-perfectly plastic and ignore it.
+    name : str
+        Label used in reports.
+    """
+
+    E: float
+    nu: float
+    sigma_y: float = math.inf
+    n: float = 0.0
+    name: str = ""
+
+    def __post_init__(self):
+        label = f"{self.name}." if self.name else ""
+        object.__setattr__(self, "E", check_positive(f"{label}E", self.E, "Pa"))
+        object.__setattr__(self, "nu", check_real(f"{label}nu", self.nu, low=-1.0, high=0.5,
+                                                  low_open=True, high_open=True))
+        sy = check_real(f"{label}sigma_y", self.sigma_y, low=0.0, high=math.inf, low_open=True,
+                        unit="Pa")
+        object.__setattr__(self, "sigma_y", sy)
+        object.__setattr__(self, "n", check_real(f"{label}n", self.n, low=0.0, high=1.0,
+                                                 high_open=True))
+
+    @property
+    def plane_strain_modulus(self) -> float:
+        """E / (1 - nu^2), Pa: this body's share of the reduced modulus."""
+        return self.E / (1.0 - self.nu**2)
+
+    @property
+    def compliance(self) -> float:
+        """(1 - nu^2) / E, 1/Pa."""
+        return (1.0 - self.nu**2) / self.E
+
+    def reduced_modulus(self, counterface: "ElasticPlastic | None" = None) -> float:
+        """Reduced modulus E* against `counterface` (rigid when None), Pa."""
+        return reduced_modulus(self.plane_strain_modulus, counterface)
+
+
+def reduced_modulus(plane_strain_modulus, counterface: ElasticPlastic | None = None):
+    """E* from a body's plane-strain modulus E/(1-nu^2) (Pa, scalar or array) and a counterface.
+
+    ``counterface=None`` means a rigid counterface, E* = E/(1-nu^2).
+    """
+    if counterface is None:
+        return plane_strain_modulus
+    return 1.0 / (1.0 / plane_strain_modulus + counterface.compliance)
+
+
+#: Diamond indenter, the usual nanoindentation counterface (physics.md section 9).
+DIAMOND = ElasticPlastic(E=1141e9, nu=0.07, name="diamond")
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One film of a stack: thickness (m) and material."""
+
+    thickness: float
+    material: ElasticPlastic
+
+    def __post_init__(self):
+        name = self.material.name or "layer"
+        object.__setattr__(self, "thickness",
+                           check_positive(f"{name}.thickness", self.thickness, "m"))
+
+
+@dataclass(frozen=True)
+class LayerStack:
+    """Films on a substrate, top layer first. An empty `layers` is a homogeneous half-space."""
+
+    layers: tuple[Layer, ...]
+    substrate: ElasticPlastic
+
+    def __post_init__(self):
+        layers = tuple(self.layers)
+        for layer in layers:
+            if not isinstance(layer, Layer):
+                raise InputError(f"layers must hold Layer objects, got {type(layer).__name__}")
+        object.__setattr__(self, "layers", layers)
+
+    @property
+    def is_homogeneous(self) -> bool:
+        return not self.layers
+
+    @property
+    def interface_depths(self) -> tuple[float, ...]:
+        """Depth of the bottom of each layer below the free surface, m (z_1 ... z_N)."""
+        depths, z = [], 0.0
+        for layer in self.layers:
+            z += layer.thickness
+            depths.append(z)
+        return tuple(depths)
+
+    @property
+    def total_thickness(self) -> float:
+        return sum(layer.thickness for layer in self.layers)
+
+    def materials(self) -> tuple[ElasticPlastic, ...]:
+        """Layer materials top first, then the substrate."""
+        return tuple(layer.material for layer in self.layers) + (self.substrate,)

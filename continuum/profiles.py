@@ -1,0 +1,242 @@
+"""Depth profiles of a target's effective properties: what a sphere pressing to approach delta
+feels of a layered (or homogeneous) half-space.
+
+A profile answers ``properties(delta, R) -> (E_p, sigma_y, nu)``: the target's effective
+plane-strain modulus E_p = E/(1 - nu^2) (Pa), yield strength (Pa) and Poisson ratio. The impact
+model combines E_p with the impactor into the reduced modulus. Three kinds:
+
+- `UniformProfile`: a homogeneous half-space.
+- `StackProfile`: a layer stack with the Gao, Chiu & Lee (1992) weights [C2] and their
+  multilayer extension [R] (physics.md section 7), at the contact radius a = sqrt(R delta)
+  of Hertz contact. Weighted quantities: E_p and sigma_y with I0, nu with I1. The weighting of
+  sigma_y is the same heuristic as that of the modulus [R].
+- `TableProfile`: measured (or simulated) indentation tables (contact depth, E_r, H), fitted
+  piecewise linearly and read with contact depth = delta, sigma_y = H / k_T, as in the seed
+  dissertation (section 3.5), with k_T the plateau of the contact law in use.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError, check_positive, check_real
+from .materials import DIAMOND, ElasticPlastic, LayerStack
+
+_X_MAX = 1e15   # I0(x), I1(x) equal 1 to double precision well before this
+
+
+def _layer_weights(cumulative):
+    """Differences of a cumulative weight at the interfaces (last axis): layer shares, then
+    the substrate's 1 - I(z_N/a)."""
+    zeros = np.zeros(cumulative.shape[:-1] + (1,))
+    return np.diff(np.concatenate([zeros, cumulative, zeros + 1.0], axis=-1), axis=-1)
+
+
+def _ratio(z, a):
+    """x = z / a, with a -> 0 (and a = -0.0 from delta = -0.0) mapped to a large finite x."""
+    with np.errstate(divide="ignore"):
+        return np.minimum(np.divide(z, np.abs(a)), _X_MAX)
+
+
+def _gao_terms(x):
+    """(2/pi) atan(x) and x ln((1+x^2)/x^2), shared by I0 and I1 (0 at x = 0)."""
+    x = np.asarray(x, dtype=float)
+    safe = np.where(x > 0, x, 1.0)
+    return (2.0 / np.pi) * np.arctan(x), np.where(x > 0, x * np.log1p(1.0 / (safe * safe)), 0.0)
+
+
+def _i0(x, nu, angle, log_term):
+    return angle + ((1.0 - 2.0 * nu) * log_term - x / (1.0 + x * x)) / (2.0 * np.pi * (1.0 - nu))
+
+
+def gao_i0(x, nu):
+    """Gao weight I0(x) for the shear modulus, x = t/a (physics.md section 7):
+    (2/pi) atan(x) + [(1-2nu) x ln((1+x^2)/x^2) - x/(1+x^2)] / (2 pi (1-nu)).
+    I0(0) = 0, I0(inf) = 1, I0(1, nu=0.3) = 0.4494."""
+    x = np.asarray(x, dtype=float)
+    return _i0(x, nu, *_gao_terms(x))
+
+
+def gao_i1(x):
+    """Gao weight I1(x) for the Poisson ratio: (2/pi) atan(x) + (x/pi) ln((1+x^2)/x^2).
+    I1(1) = 0.7206."""
+    angle, log_term = _gao_terms(x)
+    return angle + log_term / np.pi
+
+
+class DepthProfile:
+    """Effective target properties against approach delta (m) for a sphere of radius R (m)."""
+
+    #: properties do not depend on delta or R
+    uniform: bool = False
+
+    def properties(self, delta, R):
+        """(E_p, sigma_y, nu) at approach delta; E_p and sigma_y in Pa."""
+        raise NotImplementedError
+
+    def knots(self) -> np.ndarray:
+        """Depths (m) where the properties have kinks: quadrature must not straddle them."""
+        return np.empty(0)
+
+    def describe(self) -> dict:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class UniformProfile(DepthProfile):
+    """A homogeneous half-space of one material."""
+
+    material: ElasticPlastic
+    uniform = True
+
+    def properties(self, delta, R):
+        shape = np.broadcast(delta, R).shape
+        m = self.material
+        return (np.full(shape, m.plane_strain_modulus), np.full(shape, m.sigma_y),
+                np.full(shape, m.nu))
+
+    def describe(self) -> dict:
+        m = self.material
+        return {"kind": "uniform", "name": m.name, "E": m.E, "nu": m.nu, "sigma_y": m.sigma_y}
+
+
+@dataclass(frozen=True)
+class StackProfile(DepthProfile):
+    """Layer stack weighted with Gao's I0 (E_p, sigma_y) and I1 (nu) at a = sqrt(R delta)."""
+
+    stack: LayerStack
+    _depths: np.ndarray = field(init=False, repr=False, compare=False)
+    _props: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        mats = self.stack.materials()
+        object.__setattr__(self, "_depths", np.asarray(self.stack.interface_depths, dtype=float))
+        object.__setattr__(self, "_props", np.array(
+            [[m.plane_strain_modulus for m in mats], [m.sigma_y for m in mats],
+             [m.nu for m in mats]]))
+
+    def weights(self, delta, R):
+        """(I1 weights, I0 weights) of each layer and the substrate (last axis), each summing
+        to 1; I0 uses the I1-weighted Poisson ratio."""
+        a = np.sqrt(np.asarray(R) * np.asarray(delta, dtype=float))[..., None]
+        x = _ratio(self._depths, a)
+        angle, log_term = _gao_terms(x)
+        w1 = _layer_weights(angle + log_term / np.pi)
+        nu = w1 @ self._props[2]
+        return w1, _layer_weights(_i0(x, nu[..., None], angle, log_term))
+
+    def properties(self, delta, R):
+        if self._depths.size == 0:
+            return UniformProfile(self.stack.substrate).properties(delta, R)
+        e_p, s_y, nus = self._props
+        w1, w0 = self.weights(delta, R)
+        return w0 @ e_p, w0 @ s_y, w1 @ nus
+
+    def describe(self) -> dict:
+        return {"kind": "stack", "weighting": "gao-multilayer",
+                "contact_radius": "sqrt(R delta)",
+                "layers": [{"name": lay.material.name, "thickness": lay.thickness,
+                            "E": lay.material.E, "nu": lay.material.nu,
+                            "sigma_y": lay.material.sigma_y} for lay in self.stack.layers],
+                "substrate": UniformProfile(self.stack.substrate).describe()}
+
+
+@dataclass(frozen=True)
+class TableProfile(DepthProfile):
+    """Piecewise-linear properties between ``depths`` (m), constant beyond the end knots."""
+
+    depths: np.ndarray          #: knots, m, increasing
+    plane_strain_modulus: np.ndarray  #: E_p at the knots, Pa
+    hardness: np.ndarray        #: H at the knots, Pa
+    hardness_factor: float      #: k_T in sigma_y = H / k_T
+    nu: float                   #: Poisson ratio of the target (one value)
+    fit_std: dict = field(default_factory=dict)  #: residual std of each fit (Pa)
+
+    def properties(self, delta, R):
+        delta = np.broadcast_to(np.asarray(delta, dtype=float), np.broadcast(delta, R).shape)
+        e_p = np.interp(delta, self.depths, self.plane_strain_modulus)
+        s_y = np.interp(delta, self.depths, self.hardness) / self.hardness_factor
+        return e_p, s_y, np.full(delta.shape, self.nu)
+
+    def knots(self) -> np.ndarray:
+        return np.asarray(self.depths)
+
+    def describe(self) -> dict:
+        return {"kind": "table", "depths": list(map(float, self.depths)),
+                "E_p": list(map(float, self.plane_strain_modulus)),
+                "H": list(map(float, self.hardness)), "hardness_factor": self.hardness_factor,
+                "nu": self.nu, "fit_std": dict(self.fit_std)}
+
+    @classmethod
+    def from_measurements(cls, h_c, E_r, H, *, breakpoints=(), indenter=DIAMOND, nu=0.3,
+                          hardness_factor=2.8) -> "TableProfile":
+        """Fit measured (h_c, E_r, H) with continuous piecewise-linear least squares.
+
+        Parameters
+        ----------
+        h_c, E_r, H : array_like
+            Contact depth (m), reduced modulus (Pa) and hardness (Pa) of each indent.
+        breakpoints : sequence of float
+            Depths (m) where the slope may change, e.g. layer interfaces; those outside the
+            measured depth range are dropped. None given: one straight line.
+        indenter : ElasticPlastic or None
+            The indenter that E_r was measured against (diamond by default); None if E_r is
+            already against a rigid indenter.
+        nu : float
+            Poisson ratio of the target, used by the yield criteria of the contact laws.
+        hardness_factor : float
+            k_T in sigma_y = H / k_T; pass the contact law's ``hardness_factor``.
+        """
+        h_c, E_r, H = (np.asarray(v, dtype=float).ravel() for v in (h_c, E_r, H))
+        if not (h_c.size == E_r.size == H.size):
+            raise InputError(f"profile table columns differ in length: h_c {h_c.size}, "
+                             f"E_r {E_r.size}, H {H.size}")
+        if h_c.size < 2:
+            raise InputError(f"profile table needs at least 2 rows, got {h_c.size}")
+        for name, values in (("h_c", h_c), ("E_r", E_r), ("H", H)):
+            bad = ~np.isfinite(values) | (values <= 0)
+            if bad.any():
+                raise InputError(f"profile table {name} has {values[bad][0]!r} at row "
+                                 f"{int(np.argmax(bad))}: values must be finite and > 0")
+        nu = check_real("profile nu", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
+        hardness_factor = check_positive("hardness_factor", hardness_factor)
+        e_p = 1.0 / E_r if indenter is None else 1.0 / E_r - indenter.compliance
+        if np.any(e_p <= 0):
+            raise InputError(f"profile table E_r = {E_r[e_p <= 0][0]:.4g} Pa is not below "
+                             f"what the {indenter.name or 'given'} indenter allows "
+                             f"({1.0 / indenter.compliance:.4g} Pa)")
+        e_p = 1.0 / e_p
+        lo, hi = float(h_c.min()), float(h_c.max())
+        if hi <= lo:
+            raise InputError("profile table h_c must span more than one depth")
+        inner = [float(b) for b in breakpoints if lo < float(b) < hi]
+        knots = np.unique(np.array([lo, *inner, hi]))
+        basis = np.stack([np.interp(h_c, knots, np.eye(knots.size)[k])
+                          for k in range(knots.size)], axis=1)
+        if np.linalg.matrix_rank(basis) < knots.size:
+            raise InputError(f"profile breakpoints {inner} leave a depth range without "
+                             f"enough indents to fit a line")
+        fits, std = [], {}
+        for name, values in (("E_p", e_p), ("H", H)):
+            coef = np.linalg.lstsq(basis, values, rcond=None)[0]
+            if np.any(coef <= 0):
+                raise InputError(f"the piecewise fit of {name} goes to {coef.min():.4g} Pa "
+                                 f"at a knot: use fewer breakpoints or more indents")
+            fits.append(coef)
+            std[name] = float(np.std(values - basis @ coef))
+        return cls(depths=knots, plane_strain_modulus=fits[0], hardness=fits[1],
+                   hardness_factor=hardness_factor, nu=nu, fit_std=std)
+
+
+def profile_for(target) -> DepthProfile:
+    """A profile for a material, a stack (uniform when it has no layers) or a profile."""
+    if isinstance(target, DepthProfile):
+        return target
+    if isinstance(target, ElasticPlastic):
+        return UniformProfile(target)
+    if isinstance(target, LayerStack):
+        return UniformProfile(target.substrate) if target.is_homogeneous else StackProfile(target)
+    raise InputError(f"target must be a material, a layer stack or a depth profile, "
+                     f"got {type(target).__name__}")

@@ -1,0 +1,1 @@
+"""filmscale.workflows: scene files, the `filmscale` command line, result store and plots."""

@@ -73,6 +73,8 @@ class ContactLaw:
     hardness_factor: float = 2.8
     #: residual-depth model used when the caller asks for "auto" unloading
     default_unloading: str = "crater"
+    #: branches below this index are elastic: unloading retraces loading (e_y = 1)
+    reversible_branches: int = 1
 
     def severity(self, delta, R, E_star, sigma_y, nu):
         raise NotImplementedError
@@ -140,6 +142,7 @@ class Hertz(ContactLaw):
     name = "hertz"
     thresholds = (1.0,)
     regime_names = ("elastic", "elastic (first yield exceeded)")
+    reversible_branches = 2
 
     def severity(self, delta, R, E_star, sigma_y, nu):
         return delta / _hertz_first_yield(R, E_star, sigma_y, nu).approach

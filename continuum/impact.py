@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import elementwise, minimize_scalar
+from scipy.optimize import brentq, elementwise, minimize_scalar
 
 from .contact_laws import ContactLaw
 from .errors import (InputError, ModelRangeError, check_choice, check_positive,
@@ -354,10 +354,14 @@ class ImpactModel:
             unl = unload(self.unloading, delta_max=d_max, force_max=hist["force_end"],
                          area_max=hist["area_end"], E_star=estar_max, R=R_ok,
                          yield_approach=bp_ok[:, 0])
-            e_y = np.sqrt(unl.work / e_ok)
+            # an elastic contact unloads along its loading curve: e_y = 1, no crater
+            elastic = branch < self.law.reversible_branches
+            residual = np.where(elastic, 0.0, unl.residual_depth)
+            e_y = np.where(elastic, 1.0, np.sqrt(unl.work / e_ok))
             v_out = e_y * V_ok
-            t_unload = 0.5 * HERTZ_DURATION_FACTOR * unl.elastic_recovery / v_out
-            bad = (unl.residual_depth < -1e-12 * d_max) | (e_y > 1.0 + 1e-12)
+            t_unload = np.where(elastic, hist["time"],
+                                0.5 * HERTZ_DURATION_FACTOR * unl.elastic_recovery / v_out)
+            bad = (residual < -1e-12 * d_max) | (e_y > 1.0 + 1e-12)
             status[ok] = np.where(bad, UNLOADING_INCONSISTENT, OK)
             n_fields["delta_max"][ok] = d_max
             n_fields["force_max"][ok] = hist["force_max"]
@@ -366,7 +370,7 @@ class ImpactModel:
             n_fields["loading_time"][ok] = hist["time"]
             n_fields["unloading_time"][ok] = t_unload
             n_fields["contact_time"][ok] = hist["time"] + t_unload
-            n_fields["residual_depth"][ok] = unl.residual_depth
+            n_fields["residual_depth"][ok] = residual
             n_fields["restitution"][ok] = e_y
             n_fields["rebound_velocity"][ok] = v_out
             regime[ok] = branch
@@ -393,12 +397,25 @@ class ImpactModel:
         knots = np.broadcast_to(self.target.knots(), (d_max.size, self.target.knots().size))
         cuts = np.concatenate([geo, bp, knots, np.zeros((d_max.size, 1))], axis=1)
         cuts = np.where(cuts <= d_max[:, None], cuts, d_max[:, None])
-        u_edges = np.sort(np.sqrt(np.clip(1.0 - cuts / d_max[:, None], 0.0, 1.0)), axis=1)
+        u_cuts = np.sqrt(np.clip(1.0 - cuts / d_max[:, None], 0.0, 1.0))
+        if not self.law.continuous:
+            # a force jump at a breakpoint just below d_max puts a near-singularity at a
+            # distance ~u_b from u_b = sqrt(1 - b/d_max): grade the pieces above it by 4
+            u_b = np.sqrt(np.clip(1.0 - np.max(np.where(bp < d_max[:, None], bp, 0.0), axis=1)
+                                  / d_max, 0.0, 1.0))
+            graded = np.minimum(u_b[:, None] * 4.0 ** np.arange(1, 11), 0.5)
+            u_cuts = np.concatenate([u_cuts, graded], axis=1)
+        u_edges = np.sort(u_cuts, axis=1)
         du = np.diff(u_edges, axis=1)                                  # (N, pieces)
         u = u_edges[:, :-1, None] + du[..., None] * x                  # (N, pieces, n)
         delta = d_max[:, None, None] * (1.0 - u * u)
-        branch = np.sum(bp[:, None, None, :] <= delta[..., None], axis=-1)
-        force, area = self._force_area(delta, R[:, None, None], branch)
+        # evaluate the law on pieces of nonzero length only (most graded pieces are empty)
+        live = du > 0
+        d_live = delta[live]                                           # (pieces alive, n)
+        rows = np.nonzero(live)[0]
+        branch = np.sum(bp[rows][:, None, :] <= d_live[..., None], axis=-1)
+        force, area = np.zeros_like(delta), np.zeros_like(delta)
+        force[live], area[live] = self._force_area(d_live, R[rows][:, None], branch)
         g = force * 2.0 * d_max[:, None, None] * u                     # dW/du
         piece_total = du * (g @ w)
         start = np.concatenate([np.zeros((d_max.size, 1)), np.cumsum(piece_total, axis=1)[:, :-1]],
@@ -409,16 +426,21 @@ class ImpactModel:
                           where=speed > 0)       # zero-length pieces have u = speed = 0
         time = np.sum(du * (dt_du @ w), axis=1)
 
-        # candidates for maxima: nodes, the left limits at breakpoints, and d_max itself
+        # candidates for maxima: nodes, both limits at each breakpoint (the law may jump
+        # there), and d_max itself
         f_end, a_end = self._force_area(d_max, R, branch_end)
-        bp_in = np.where(bp < d_max[:, None], bp, d_max[:, None])
-        f_left, a_left = self._force_area(bp_in, R[:, None], np.arange(bp.shape[1]))
-        crossed = bp < d_max[:, None]          # thresholds not crossed have no left limit
-        f_left = np.where(crossed, f_left, f_end[:, None])
-        a_left = np.where(crossed, a_left, a_end[:, None])
-        cand_d = np.concatenate([delta.reshape(d_max.size, -1), bp_in, d_max[:, None]], axis=1)
-        cand_f = np.concatenate([force.reshape(d_max.size, -1), f_left, f_end[:, None]], axis=1)
-        cand_a = np.concatenate([area.reshape(d_max.size, -1), a_left, a_end[:, None]], axis=1)
+        crossed = bp < d_max[:, None]          # thresholds not crossed have no limits
+        bp_in = np.where(crossed, bp, d_max[:, None])
+        k = np.arange(bp.shape[1])
+        limits = [self._force_area(bp_in, R[:, None], k + side) for side in (0, 1)]
+        cand_d = np.concatenate([delta.reshape(d_max.size, -1), bp_in, bp_in, d_max[:, None]],
+                                axis=1)
+        cand_f = np.concatenate([force.reshape(d_max.size, -1)]
+                                + [np.where(crossed, f, f_end[:, None]) for f, _ in limits]
+                                + [f_end[:, None]], axis=1)
+        cand_a = np.concatenate([area.reshape(d_max.size, -1)]
+                                + [np.where(crossed, a, a_end[:, None]) for _, a in limits]
+                                + [a_end[:, None]], axis=1)
         out = {"time": time, "force_end": f_end, "area_end": a_end}
         for key in ("force_max", "area_max", "mean_pressure_max"):
             out[key] = self._refined_max(key, _quantity(key, cand_f, cand_a), cand_d, d_max,
@@ -432,9 +454,14 @@ class ImpactModel:
         d_sorted = np.take_along_axis(cand_d, order, axis=1)
         v_sorted = np.take_along_axis(values, order, axis=1)
         k = np.argmax(v_sorted, axis=1)
-        best = v_sorted[np.arange(k.size), k]
-        interior = (k > 0) & (k < d_sorted.shape[1] - 1)
-        interior &= ~np.any(np.isclose(d_sorted[np.arange(k.size), k][:, None],
+        rows = np.arange(k.size)
+        best = v_sorted[rows, k]
+        # refine strict interior peaks only: a plateau (fully plastic p_m = H) is exact
+        kl, kr = np.maximum(k - 1, 0), np.minimum(k + 1, d_sorted.shape[1] - 1)
+        interior = ((v_sorted[rows, kl] < best) & (v_sorted[rows, kr] < best)
+                    & (d_sorted[rows, kl] < d_sorted[rows, k])
+                    & (d_sorted[rows, k] < d_sorted[rows, kr]))
+        interior &= ~np.any(np.isclose(d_sorted[rows, k][:, None],
                                        np.concatenate([bp, d_max[:, None]], axis=1),
                                        rtol=1e-14, atol=0), axis=1)
         rows = np.nonzero(interior)[0]
@@ -451,7 +478,8 @@ class ImpactModel:
             res = elementwise.find_minimum(
                 lambda d, r, *cols: negative(d, r, np.stack(cols, axis=-1)),
                 (lo, mid, hi), args=(R[rows], *bp_rows.T))
-            best[rows] = np.maximum(best[rows], -res.f_x)
+            refined = np.where(res.success, -res.f_x, -np.inf)
+            best[rows] = np.maximum(best[rows], refined)
         return best
 
     def first_yield(self, radius, mass):
@@ -504,26 +532,30 @@ class ImpactModel:
 
         nfev = [0]
 
+        def depth(y):
+            """Approach in m, held in [0, R]: trial steps past R (the terminal event) or
+            before contact never reach the law."""
+            return min(max(y[0] * d_ref, 0.0), R)
+
         def rhs_loading(branch):
             def rhs(_, y):
-                d = y[0] * d_ref
                 nfev[0] += 1
-                p = float(force_area(d, branch)[0]) if d > 0 else 0.0
-                return [y[1], -p * accel]
+                return [y[1], -float(force_area(depth(y), branch)[0]) * accel]
             return rhs
 
         def event(fun, direction):
             fun.terminal, fun.direction = True, direction
             return fun
 
-        pieces, events = [], {}
+        pieces, events = [], {}   # pieces: (dense solution, phase, branch, t_start, t_end)
         y0, t0 = np.array([-gap / d_ref, 1.0]), 0.0
         options = dict(method=method, rtol=rtol, atol=rtol * 1e-3, dense_output=True)
         if gap > 0:
             sol = solve_ivp(lambda t, y: [y[1], 0.0], (0.0, _T_BOUND), y0,
                             events=[event(lambda t, y: y[0], 1)], **options)
-            pieces.append((sol, 0, 0))
-            t0, y0 = sol.t_events[0][0], sol.y_events[0][0]
+            t_end = sol.t_events[0][0]
+            pieces.append((sol, 0, 0, t0, t_end))
+            t0, y0 = t_end, sol.y_events[0][0]
         events["contact"] = t0 * t_ref
         branch = 0
         left_limits = []
@@ -532,14 +564,24 @@ class ImpactModel:
                    event(lambda t, y: y[0] - R / d_ref, 1)]
             if branch < len(thr):
                 level = thr[branch]
-                evs.append(event(lambda t, y: float(severity(max(y[0], 0.0) * d_ref)) - level, 1))
+                evs.append(event(lambda t, y: float(severity(depth(y))) - level, 1))
             sol = solve_ivp(rhs_loading(branch), (t0, t0 + _T_BOUND), y0, events=evs, **options)
-            pieces.append((sol, 1, branch))
-            hit = [i for i, te in enumerate(sol.t_events) if te.size]
+            hit = [k for k, te in enumerate(sol.t_events) if te.size]
             if not hit or sol.status < 0:
                 raise RuntimeError(f"time integration stopped without an event: {sol.message}")
             i = min(hit, key=lambda k: sol.t_events[k][0])
-            t0, y0 = sol.t_events[i][0], sol.y_events[i][0].copy()
+            t_end, y_end = sol.t_events[i][0], sol.y_events[i][0].copy()
+            if i == 0 and branch < len(thr):
+                # a threshold crossed and left again inside the step holding the maximum
+                # shows no sign change at the step ends: find it on the dense output
+                def above(t, sol=sol, level=thr[branch]):
+                    return float(severity(depth(sol.sol(t)))) - level
+                if above(t_end) >= 0:
+                    t_below = max(t for t in sol.t if t < t_end and above(t) < 0)
+                    t_end = brentq(above, t_below, t_end, xtol=1e-15 * t_end)
+                    y_end, i = sol.sol(t_end), 2
+            pieces.append((sol, 1, branch, t0, t_end))
+            t0, y0 = t_end, y_end
             if i == 0:
                 break
             if i == 1:
@@ -557,21 +599,31 @@ class ImpactModel:
                           else float(self.breakpoints(np.array([R]))[0, 0]))
         unl = unload(self.unloading, delta_max=d_max, force_max=f_end, area_max=a_end,
                      E_star=e_max, R=R, yield_approach=yield_approach)
-        residual = float(unl.residual_depth)
+        if branch < law.reversible_branches:      # elastic: unload along the loading curve
+            residual = 0.0
+
+            def unloading_force(d):
+                return force_area(np.maximum(d, 0.0), branch)[0]
+        else:
+            residual = float(unl.residual_depth)
+
+            def unloading_force(d):
+                return unl.force(d, e_max)
 
         def rhs_unloading(_, y):
             nfev[0] += 1
-            return [y[1], -float(unl.force(y[0] * d_ref, e_max)) * accel]
+            return [y[1], -float(unloading_force(y[0] * d_ref)) * accel]
 
         sol = solve_ivp(rhs_unloading, (t0, t0 + _T_BOUND), y0,
                         events=[event(lambda t, y: y[0] - residual / d_ref, -1)], **options)
-        pieces.append((sol, 2, branch))
         t_sep, y_sep = sol.t_events[0][0], sol.y_events[0][0]
+        pieces.append((sol, 2, branch, t0, t_sep))
         events["separation"] = t_sep * t_ref
 
         time, delta, vel, phase, branch_arr = [], [], [], [], []
-        for sol_k, ph, br in pieces:
-            ts = np.unique(np.concatenate([sol_k.t, np.linspace(sol_k.t[0], sol_k.t[-1], samples)]))
+        for sol_k, ph, br, t_a, t_b in pieces:
+            steps = sol_k.t[(sol_k.t >= t_a) & (sol_k.t <= t_b)]
+            ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
             ys = sol_k.sol(ts)
             time.append(ts * t_ref)
             delta.append(ys[0] * d_ref)
@@ -587,18 +639,21 @@ class ImpactModel:
             sel = load & (branch_arr == b)
             force[sel], area[sel] = force_area(delta[sel], int(b))
         unload_sel = phase == 2
-        force[unload_sel] = unl.force(delta[unload_sel], e_max)
-        a_unl = np.sqrt(np.maximum(delta[unload_sel] - residual, 0.0) * unl.radius)
-        area[unload_sel] = np.pi * a_unl**2
+        if branch < law.reversible_branches:
+            force[unload_sel], area[unload_sel] = force_area(
+                np.maximum(delta[unload_sel], 0.0), branch)
+        else:
+            force[unload_sel] = unl.force(delta[unload_sel], e_max)
+            area[unload_sel] = np.pi * np.maximum(delta[unload_sel] - residual, 0.0) * unl.radius
         mean_p = np.divide(force, area, out=np.zeros_like(force), where=area > 0)
 
         maxima = {}
-        loading = [(s, b) for s, ph, b in pieces if ph == 1]
+        loading = [(sol_k, b, t_a, t_b) for sol_k, ph, b, t_a, t_b in pieces if ph == 1]
         for key in ("force_max", "area_max", "mean_pressure_max"):
             best = max([float(_quantity(key, f_end, a_end))]
                        + [float(_quantity(key, *force_area(d, b))) for d, b in left_limits])
-            for sol_k, b in loading:
-                ts = np.linspace(sol_k.t[0], sol_k.t[-1], 8 * samples)
+            for sol_k, b, t_a, t_b in loading:
+                ts = np.linspace(t_a, t_b, 8 * samples)
                 q = _quantity(key, *force_area(np.maximum(sol_k.sol(ts)[0] * d_ref, 0.0), b))
                 k = int(np.argmax(q))
                 best = max(best, float(q[k]))
@@ -643,7 +698,7 @@ def _quantity(key, force, area):
     return np.divide(force, area, out=np.zeros(np.broadcast(force, area).shape), where=area > 0)
 
 
-def impact(target, law, velocity, radius, mass, *, impactor=None, unloading="auto",
+def solve_impact(target, law, velocity, radius, mass, *, impactor=None, unloading="auto",
            path="fast", **options) -> ImpactResult:
     """One impact by the fast path (``path="fast"``) or time integration (``"time"``).
 

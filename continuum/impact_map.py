@@ -1,0 +1,72 @@
+"""Impact maps: the fast-path maxima over a grid of impact velocity V and sphere radius R.
+
+Points whose approach would exceed R are marked (``out_of_range``) and hold NaN instead of
+stopping the map; `ImpactMap.field` returns any result as an (n_R, n_V) array in SI units.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError, check_choice, check_positive
+from .impact import EXCEEDS_RADIUS, ImpactMaxima, ImpactModel
+
+#: the quantities a map shows, with units (the dissertation's Figs. 3.2-3.5 and more)
+MAP_FIELDS = {"delta_max": "m", "mean_pressure_max": "Pa", "force_max": "N",
+              "contact_radius_max": "m", "contact_time": "s", "residual_depth": "m",
+              "restitution": "1"}
+
+
+def axis(low, high, count, spacing: str = "log", name: str = "axis") -> np.ndarray:
+    """``count`` values from ``low`` to ``high`` (both > 0), log- or linearly spaced."""
+    low = check_positive(f"{name} minimum", low)
+    high = check_positive(f"{name} maximum", high)
+    if isinstance(count, bool) or int(count) != count or not 1 <= int(count) <= 100_000:
+        raise InputError(f"{name} count = {count!r} must be an integer in [1, 100000]")
+    if high < low:
+        raise InputError(f"{name} maximum {high:g} is below its minimum {low:g}")
+    check_choice(f"{name} spacing", spacing, ("log", "linear"))
+    count = int(count)
+    return np.geomspace(low, high, count) if spacing == "log" else np.linspace(low, high, count)
+
+
+@dataclass(frozen=True)
+class ImpactMap:
+    """Maxima on the grid ``radius`` (rows) x ``velocity`` (columns)."""
+
+    velocity: np.ndarray        #: V, m/s, shape (n_V,)
+    radius: np.ndarray          #: R, m, shape (n_R,)
+    mass: float                 #: kg
+    maxima: ImpactMaxima        #: fields of shape (n_R, n_V)
+
+    @property
+    def out_of_range(self) -> np.ndarray:
+        """True where the approach would exceed R (not computed)."""
+        return self.maxima.status == EXCEEDS_RADIUS
+
+    def field(self, name: str) -> np.ndarray:
+        """One result as an (n_R, n_V) float array, NaN where out of range."""
+        check_choice("map field", name, tuple(ImpactMaxima.UNITS))
+        return np.asarray(getattr(self.maxima, name), dtype=float)
+
+    def to_dict(self) -> dict:
+        """Arrays in SI for the store: axes, every result field, status and regime."""
+        out = {"velocity": self.velocity, "radius": self.radius, "mass": self.mass,
+               "status": self.maxima.status, "regime": self.maxima.regime,
+               "yielded": self.maxima.yielded}
+        out.update({k: self.field(k) for k in ImpactMaxima.UNITS
+                    if k not in ("velocity", "radius", "mass")})
+        return out
+
+
+def impact_map(model: ImpactModel, velocity, radius, mass) -> ImpactMap:
+    """Fast-path maxima of ``model`` for every (R, V) pair of the two 1-D axes."""
+    velocity = np.atleast_1d(np.asarray(velocity, dtype=float))
+    radius = np.atleast_1d(np.asarray(radius, dtype=float))
+    if velocity.ndim != 1 or radius.ndim != 1:
+        raise InputError("impact map axes must be 1-D arrays of velocity and radius")
+    mass = check_positive("mass", mass, "kg")
+    maxima = model.maxima(velocity[None, :], radius[:, None], mass)
+    return ImpactMap(velocity=velocity, radius=radius, mass=mass, maxima=maxima)

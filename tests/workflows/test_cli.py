@@ -1,0 +1,141 @@
+"""The command line: JSON keys, exit status, HDF5 content, plots, atomic writes."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from filmscale.continuum import contact_law, elastic_impact, ElasticPlastic
+from filmscale.workflows.cli import main
+from filmscale.workflows.store import atomic_h5, read_impact_maps
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
+FILMSCALE = Path(sys.executable).with_name("filmscale")
+
+HERTZ_SCENE = """
+[impactor]
+radius = 10e-6
+mass = 1.6e-6
+velocity = 0.05
+E = 400e9
+nu = 0.23
+
+[target.substrate]
+name = "glass"
+E = 90e9
+nu = 0.25
+sigma_y = 2.4e9
+
+[model]
+contact_law = "hertz"
+"""
+
+KEYS = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max", "contact_time",
+        "residual_depth", "restitution", "yielded", "regime")
+
+
+def test_impact_json_has_the_promised_keys_and_meets_hertz(tmp_path, capsys):
+    scene = tmp_path / "hertz.toml"
+    scene.write_text(HERTZ_SCENE)
+    assert main(["impact", str(scene), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(KEYS) <= set(out)
+    e_star = ElasticPlastic(E=90e9, nu=0.25).reduced_modulus(ElasticPlastic(E=400e9, nu=0.23))
+    ref = elastic_impact(1.6e-6, 10e-6, 0.05, e_star)
+    assert out["delta_max"] == pytest.approx(float(ref.delta_max), rel=1e-9)
+    assert out["contact_time"] == pytest.approx(float(ref.contact_time), rel=1e-9)
+    # 0.05 m/s is above the first-yield velocity (0.0125 m/s): Hertz stays elastic but says so
+    assert out["restitution"] == 1.0 and out["yielded"] is True
+    assert out["regime"] == "elastic (first yield exceeded)"
+
+
+def test_overrides_and_history_output(tmp_path, capsys):
+    csv = tmp_path / "hist.csv"
+    png = tmp_path / "hist.png"
+    assert main(["impact", str(EXAMPLE), "--velocity", "0.05", "--radius", "5e-6", "--json",
+                 "--history", str(csv), "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["velocity"] == 0.05 and out["radius"] == 5e-6
+    assert out["path"] == "time-integration"
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert data[:, 3].max() == pytest.approx(out["force_max"], rel=1e-6)
+    assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--velocity", "-1"], "--velocity = -1 m/s is outside the valid range"),
+    (["--velocity", "0"], "--velocity = 0 m/s is outside the valid range"),
+    (["--radius", "nan"], "--radius = nan m is outside the valid range"),
+])
+def test_bad_command_line_values_exit_2_with_one_line(args, message, capsys):
+    assert main(["impact", str(EXAMPLE), *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_real_entry_point_bad_scene_exits_2_without_traceback(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(HERTZ_SCENE.replace('"hertz"', '"hertzian"'))
+    done = subprocess.run([str(FILMSCALE), "impact", str(scene)], capture_output=True,
+                          text=True, stdin=subprocess.DEVNULL)
+    assert done.returncode == 2
+    assert done.stderr.startswith("filmscale: error: model.contact_law = 'hertzian'")
+    assert "Traceback" not in done.stderr and done.stdout == ""
+
+
+def test_approach_beyond_radius_exits_1_naming_the_point(capsys):
+    assert main(["impact", str(EXAMPLE), "--velocity", "50", "--radius", "1e-8"]) == 1
+    err = capsys.readouterr().err
+    assert "V = 50 m/s, R = 1e-08 m" in err and "Traceback" not in err
+
+
+def test_impact_map_writes_si_hdf5_with_provenance_and_a_plot(tmp_path, capsys):
+    out, png = tmp_path / "map.h5", tmp_path / "map.png"
+    assert main(["impact-map", str(EXAMPLE), "--velocity", "0.001:1:12", "--radius",
+                 "1e-7:1e-4:10", "--out", str(out), "--plot", str(png), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["points"] == 120 and summary["layered"]["out_of_range"] > 0
+    fields, attrs = read_impact_maps(out)
+    assert set(fields) == {"layered", "homogeneous"}
+    assert attrs["filmscale_version"] and "slider_corner_disk" in attrs["scene_source"]
+    assert "[target.substrate]" in attrs["scene"]
+    with h5py.File(out) as f:
+        assert f["layered/delta_max"].attrs["units"] == "m"
+        assert f["layered/mean_pressure_max"].attrs["units"] == "Pa"
+        assert f["velocity"].attrs["units"] == "m/s" and f["velocity"].shape == (12,)
+        assert f["layered/delta_max"].shape == (10, 12)
+        status = f["layered/status"][()]
+        delta = f["layered/delta_max"][()]
+    assert np.all(np.isnan(delta[status == 1])) and np.all(np.isfinite(delta[status != 1]))
+    # the homogeneous map equals an independent library run on the bare substrate
+    from filmscale.workflows.scene import load_scene
+    scene = load_scene(EXAMPLE)
+    ref = scene.substrate_model().maxima(fields["homogeneous"]["velocity"][None, :],
+                                         fields["homogeneous"]["radius"][:, None],
+                                         scene.impactor.mass)
+    np.testing.assert_array_equal(fields["homogeneous"]["delta_max"], ref.delta_max)
+    assert png.stat().st_size > 50_000
+
+
+def test_impact_map_bad_range_exits_2(tmp_path, capsys):
+    assert main(["impact-map", str(EXAMPLE), "--velocity", "1:0.1:10", "--radius",
+                 "1e-6:1e-5:5", "--out", str(tmp_path / "m.h5")]) == 2
+    assert "velocity maximum 0.1 is below its minimum 1" in capsys.readouterr().err
+    assert not (tmp_path / "m.h5").exists()
+
+
+def test_interrupted_write_leaves_nothing_and_keeps_the_old_file(tmp_path):
+    target = tmp_path / "result.h5"
+    with atomic_h5(target) as f:
+        f.create_dataset("x", data=[1.0])
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_h5(target) as f:
+            f.create_dataset("x", data=[2.0])
+            raise KeyboardInterrupt
+    with h5py.File(target) as f:
+        assert f["x"][0] == 1.0
+    assert [p.name for p in tmp_path.iterdir()] == ["result.h5"]

@@ -1,0 +1,180 @@
+"""The `filmscale` command line: a thin layer over the library.
+
+Exit status: 0 success; 2 bad input (one line naming the field, no traceback); 1 a valid
+question the model cannot answer (an approach that would exceed the sphere radius).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum import MAP_FIELDS, impact_map
+from filmscale.continuum.errors import InputError, ModelRangeError, check_positive
+
+from .scene import MapSpec, Scene, load_scene
+from .store import atomic_path
+
+
+def _range_arg(text: str) -> tuple[float, float, int]:
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"expected MIN:MAX:N, got {text!r}")
+    try:
+        low, high = float(parts[0]), float(parts[1])
+        count = int(parts[2])
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers MIN:MAX:N, got {text!r}") from None
+    return low, high, count
+
+
+def _history_csv(history, path: Path) -> None:
+    columns = ("time [s]", "delta [m]", "velocity [m/s]", "force [N]", "contact_radius [m]",
+               "mean_pressure [Pa]", "phase", "branch")
+    data = np.column_stack([history.time, history.delta, history.velocity, history.force,
+                            history.contact_radius, history.mean_pressure, history.phase,
+                            history.branch])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, data, delimiter=",", header=", ".join(columns), comments="",
+                   fmt=["%.17g"] * 6 + ["%d", "%d"])
+
+
+def cmd_impact(args) -> int:
+    scene = load_scene(args.scene)
+    imp = scene.impactor
+    V = imp.velocity if args.velocity is None else check_positive("--velocity", args.velocity, "m/s")
+    R = imp.radius if args.radius is None else check_positive("--radius", args.radius, "m")
+    m = imp.mass if args.mass is None else check_positive("--mass", args.mass, "kg")
+    model = scene.model()
+    want_history = args.history or args.plot or scene.path == "time"
+    if want_history:
+        history = model.history(V, R, m, rtol=scene.rtol)
+        result = history.result
+        if args.history:
+            _history_csv(history, Path(args.history))
+        if args.plot:
+            from .plots import plot_history
+            plot_history(history, args.plot)
+    else:
+        result = model.maxima(V, R, m).result(())
+    if args.json:
+        print(json.dumps(result.to_dict()))
+    else:
+        print(result.summary())
+    return 0
+
+
+def cmd_impact_map(args) -> int:
+    scene: Scene = load_scene(args.scene)
+    spec = MapSpec(velocity=args.velocity or scene.map.velocity,
+                   radius=args.radius or scene.map.radius,
+                   spacing=args.spacing or scene.map.spacing)
+    velocity, radius = spec.axes()
+    models = {"layered": scene.model()} if scene.layered else {}
+    models["homogeneous"] = scene.substrate_model()
+    label_of = {"layered": "layered target", "homogeneous": f"{scene.stack.substrate.name} only"}
+    start = time.perf_counter()
+    maps = {}
+    for key, model in models.items():
+        maps[key] = impact_map(model, velocity, radius, scene.impactor.mass)
+        print(f"{label_of[key]}: {velocity.size} x {radius.size} impacts", file=sys.stderr)
+    elapsed = time.perf_counter() - start
+
+    from .provenance import provenance
+    from .store import write_impact_maps
+    descriptions = {k: {"target": m.target.describe(), "law": m.law.describe(),
+                        "unloading": m.unloading,
+                        "impactor": None if m.impactor is None else
+                        {"E": m.impactor.E, "nu": m.impactor.nu}}
+                    for k, m in models.items()}
+    out = write_impact_maps(args.out, maps, descriptions,
+                            provenance(command=" ".join(sys.argv), scene_source=scene.source),
+                            scene.text)
+    if args.plot:
+        from .plots import plot_impact_maps
+        plot_impact_maps({label_of[k]: v for k, v in maps.items()}, args.plot,
+                         title=scene.title or f"{scene.law.name}, m = {scene.impactor.mass:g} kg")
+    summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
+               "points": int(velocity.size * radius.size)}
+    for key, mp in maps.items():
+        ok = ~mp.out_of_range
+        summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
+                        "yielded": int(mp.maxima.yielded.sum())}
+        summary[key].update({f: float(np.nanmax(mp.field(f))) if ok.any() else math.nan
+                             for f in MAP_FIELDS if f != "restitution"})
+        summary[key]["restitution_min"] = float(np.nanmin(mp.field("restitution"))) \
+            if ok.any() else math.nan
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(f"wrote {out}" + (f" and {args.plot}" if args.plot else "")
+              + f": {summary['points']} points per target in {elapsed:.2f} s")
+        for key in maps:
+            s = summary[key]
+            print(f"  {label_of[key]}: largest approach {s['delta_max']:.4g} m, largest mean "
+                  f"pressure {s['mean_pressure_max']:.4g} Pa, smallest e_y "
+                  f"{s['restitution_min']:.4f}, yielded at {s['yielded']} points, "
+                  f"{s['out_of_range']} points beyond the model's range (approach > R)")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="filmscale",
+        description="Multiscale contact, indentation and impact analysis of thin films.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("impact", help="one normal impact of the scene's sphere",
+                       description="Maxima of one normal impact (fast energy quadrature), or "
+                                   "its time history with --history/--plot.")
+    p.add_argument("scene", help="scene file (TOML)")
+    p.add_argument("--velocity", type=float, help="normal impact velocity V (m/s)")
+    p.add_argument("--radius", type=float, help="sphere radius R (m)")
+    p.add_argument("--mass", type=float, help="impacting mass m (kg)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    p.add_argument("--history", metavar="FILE.csv",
+                   help="integrate in time and write the history (SI units)")
+    p.add_argument("--plot", metavar="FILE.png", help="integrate in time and plot P-delta, "
+                                                      "delta(t) and P(t)")
+    p.set_defaults(func=cmd_impact)
+
+    p = sub.add_parser("impact-map", help="impact maxima over a (V, R) grid",
+                       description="Impact maps of the layered target and of its bare "
+                                   "substrate, to HDF5 (SI) and contour plots.")
+    p.add_argument("scene", help="scene file (TOML)")
+    p.add_argument("--velocity", type=_range_arg, metavar="MIN:MAX:N",
+                   help="velocity axis in m/s (default: the scene's [map])")
+    p.add_argument("--radius", type=_range_arg, metavar="MIN:MAX:N",
+                   help="radius axis in m (default: the scene's [map])")
+    p.add_argument("--spacing", choices=("log", "linear"), help="axis spacing (default log)")
+    p.add_argument("--out", required=True, metavar="MAP.h5", help="HDF5 result file")
+    p.add_argument("--plot", metavar="MAP.png", help="contour plots")
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=cmd_impact_map)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as err:
+        print(f"filmscale: error: {err}", file=sys.stderr)
+        return 2
+    except ModelRangeError as err:
+        print(f"filmscale: {err}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("filmscale: interrupted; nothing half-written was kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

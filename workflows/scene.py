@@ -1,0 +1,230 @@
+"""Scene files (TOML): the physical question of an impact, validated into continuum objects.
+
+A scene names the impactor, the target stack and the model. Every key is checked before any
+work starts: an unknown key, a missing value or a value out of range raises InputError with
+the key's full path, its value and the valid range. See docs/scenes.md for every key.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum import (DIAMOND, LAW_NAMES, UNLOADING_MODELS, ContactLaw, ElasticPlastic,
+                                 ImpactModel, Layer, LayerStack, TableProfile, axis, contact_law)
+from filmscale.continuum.errors import InputError, check_choice, check_positive, check_real
+from filmscale.continuum.io import read_table
+
+_MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
+_SECTIONS = {
+    "impactor": {"shape", "radius", "mass", "velocity", "E", "nu", "name"},
+    "target": {"substrate", "layers", "profile"},
+    "target.substrate": _MATERIAL_KEYS,
+    "target.layers": _MATERIAL_KEYS | {"thickness"},
+    "target.profile": {"file", "h_c", "E_r", "H", "breakpoints", "indenter", "nu"},
+    "model": {"contact_law", "unloading", "limiting_pressure_factor", "path", "rtol"},
+    "map": {"velocity", "radius", "spacing"},
+}
+_TOP = {"impactor", "target", "model", "map", "title", "description"}
+
+
+def _check_keys(where: str, table, allowed: set[str]) -> dict:
+    if not isinstance(table, dict):
+        raise InputError(f"[{where}] must be a table, got {type(table).__name__}")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise InputError(f"unknown key {where}.{unknown[0]} (valid keys in [{where}]: "
+                         f"{', '.join(sorted(allowed))})")
+    return table
+
+
+def _required(where: str, table: dict, key: str):
+    if key not in table:
+        raise InputError(f"{where}.{key} is missing")
+    return table[key]
+
+
+def _material(where: str, table: dict, require_yield: bool = True) -> ElasticPlastic:
+    _check_keys(where, table, _MATERIAL_KEYS)
+    E = check_positive(f"{where}.E", _required(where, table, "E"), "Pa")
+    nu = check_real(f"{where}.nu", _required(where, table, "nu"), low=-1.0, high=0.5,
+                    low_open=True, high_open=True)
+    if require_yield:
+        sigma_y = check_positive(f"{where}.sigma_y", _required(where, table, "sigma_y"), "Pa")
+    else:
+        sigma_y = math.inf
+    n = check_real(f"{where}.n", table.get("n", 0.0), low=0.0, high=1.0, high_open=True)
+    name = table.get("name", where)
+    if not isinstance(name, str):
+        raise InputError(f"{where}.name must be a string, got {name!r}")
+    return ElasticPlastic(E=E, nu=nu, sigma_y=sigma_y, n=n, name=name)
+
+
+@dataclass(frozen=True)
+class Impactor:
+    """The moving body: a sphere of radius R (m) and mass m (kg) at normal speed V (m/s);
+    ``material`` None means rigid."""
+
+    radius: float
+    mass: float
+    velocity: float
+    material: ElasticPlastic | None = None
+    name: str = "impactor"
+
+
+@dataclass(frozen=True)
+class MapSpec:
+    """Axes of an impact map: (min, max, count) for V (m/s) and R (m), and the spacing."""
+
+    velocity: tuple[float, float, int] | None = None
+    radius: tuple[float, float, int] | None = None
+    spacing: str = "log"
+
+    def axes(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.velocity is None or self.radius is None:
+            raise InputError("an impact map needs velocity and radius ranges: give "
+                             "--velocity MIN:MAX:N --radius MIN:MAX:N or a [map] section")
+        return (axis(*self.velocity, self.spacing, "velocity"),
+                axis(*self.radius, self.spacing, "radius"))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated impact scene; ``text`` is the TOML it came from (for provenance)."""
+
+    impactor: Impactor
+    stack: LayerStack
+    law: ContactLaw
+    unloading: str = "auto"
+    path: str = "fast"
+    rtol: float = 1e-10
+    profile: TableProfile | None = None
+    map: MapSpec = field(default_factory=MapSpec)
+    title: str = ""
+    text: str = ""
+    source: str = ""
+
+    @property
+    def layered(self) -> bool:
+        return bool(self.stack.layers) or self.profile is not None
+
+    def model(self) -> ImpactModel:
+        """The impact model of the full target (measured profile, else the Gao-weighted
+        stack)."""
+        target = self.profile if self.profile is not None else self.stack
+        return ImpactModel(target, self.law, self.impactor.material, self.unloading)
+
+    def substrate_model(self) -> ImpactModel:
+        """The same impact on the bare substrate (the homogeneous reference)."""
+        return ImpactModel(self.stack.substrate, self.law, self.impactor.material,
+                           self.unloading)
+
+
+def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> TableProfile:
+    _check_keys("target.profile", table, _SECTIONS["target.profile"])
+    if "file" in table:
+        if any(k in table for k in ("h_c", "E_r", "H")):
+            raise InputError("target.profile takes either file or h_c/E_r/H arrays, not both")
+        columns = read_table(base / str(table["file"]), required=("h_c", "E_r", "H"))
+    else:
+        columns = {k: _required("target.profile", table, k) for k in ("h_c", "E_r", "H")}
+    breakpoints = table.get("breakpoints", "layers")
+    if breakpoints == "layers":
+        breakpoints = stack.interface_depths
+    elif not isinstance(breakpoints, list):
+        raise InputError(f"target.profile.breakpoints must be \"layers\" or a list of depths "
+                         f"in m, got {breakpoints!r}")
+    indenter = check_choice("target.profile.indenter", table.get("indenter", "diamond"),
+                            ("diamond", "rigid"))
+    return TableProfile.from_measurements(
+        columns["h_c"], columns["E_r"], columns["H"], breakpoints=breakpoints,
+        indenter=DIAMOND if indenter == "diamond" else None,
+        nu=table.get("nu", stack.substrate.nu), hardness_factor=law.hardness_factor)
+
+
+def _range(where: str, value) -> tuple[float, float, int]:
+    if not (isinstance(value, list) and len(value) == 3):
+        raise InputError(f"{where} must be [min, max, count], got {value!r}")
+    return float(value[0]), float(value[1]), value[2]
+
+
+def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
+    """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"scene {source} is not valid TOML: {err}") from None
+    base = Path(".") if base is None else base
+    _check_keys("scene", data, _TOP)
+
+    imp = _check_keys("impactor", _required("scene", data, "impactor"), _SECTIONS["impactor"])
+    check_choice("impactor.shape", imp.get("shape", "sphere"), ("sphere",))
+    if ("E" in imp) != ("nu" in imp):
+        raise InputError("impactor.E and impactor.nu go together: give both for an elastic "
+                         "impactor, neither for a rigid one")
+    imp_material = None
+    if "E" in imp:
+        imp_material = _material("impactor", {k: imp[k] for k in ("E", "nu")},
+                                 require_yield=False)
+    impactor = Impactor(
+        radius=check_positive("impactor.radius", _required("impactor", imp, "radius"), "m"),
+        mass=check_positive("impactor.mass", _required("impactor", imp, "mass"), "kg"),
+        velocity=check_positive("impactor.velocity", _required("impactor", imp, "velocity"),
+                                "m/s"),
+        material=imp_material, name=str(imp.get("name", "impactor")))
+
+    target = _check_keys("target", _required("scene", data, "target"), _SECTIONS["target"])
+    substrate = _material("target.substrate", _required("target", target, "substrate"))
+    raw_layers = target.get("layers", [])
+    if not isinstance(raw_layers, list):
+        raise InputError("target.layers must be an array of tables ([[target.layers]])")
+    layers = []
+    for i, raw in enumerate(raw_layers):
+        where = f"target.layers[{i}]"
+        _check_keys(where, raw, _SECTIONS["target.layers"])
+        thickness = check_positive(f"{where}.thickness", _required(where, raw, "thickness"), "m")
+        mat = _material(where, {k: v for k, v in raw.items() if k != "thickness"})
+        layers.append(Layer(thickness, mat))
+    stack = LayerStack(tuple(layers), substrate)
+
+    model = _check_keys("model", data.get("model", {}), _SECTIONS["model"])
+    law_name = check_choice("model.contact_law", model.get("contact_law", "komvopoulos-ye"),
+                            LAW_NAMES)
+    options = {}
+    if "limiting_pressure_factor" in model:
+        if law_name != "thornton":
+            raise InputError("model.limiting_pressure_factor applies to contact_law = "
+                             "\"thornton\" only")
+        options["limiting_pressure_factor"] = model["limiting_pressure_factor"]
+    law = contact_law(law_name, **options)
+    unloading = check_choice("model.unloading", model.get("unloading", "auto"),
+                             ("auto",) + UNLOADING_MODELS)
+    path = check_choice("model.path", model.get("path", "fast"), ("fast", "time"))
+    rtol = check_real("model.rtol", model.get("rtol", 1e-10), low=1e-13, high=1e-2)
+
+    profile = None
+    if "profile" in target:
+        profile = _profile(target["profile"], stack, law, base)
+
+    mp = _check_keys("map", data.get("map", {}), _SECTIONS["map"])
+    map_spec = MapSpec(
+        velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
+        radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
+        spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
+    return Scene(impactor=impactor, stack=stack, law=law, unloading=unloading, path=path,
+                 rtol=rtol, profile=profile, map=map_spec, title=str(data.get("title", "")),
+                 text=text, source=source)
+
+
+def load_scene(path) -> Scene:
+    """Read and validate a scene file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise InputError(f"cannot read scene {path}: {err.strerror}") from None
+    return parse_scene(text, source=str(path), base=path.parent)

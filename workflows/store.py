@@ -1,0 +1,94 @@
+"""HDF5 result files: datasets in SI with a ``units`` attribute, provenance as attributes,
+written atomically (a temporary file in the same folder, then a rename), so an interrupted
+write never leaves a half-written result behind."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from filmscale.continuum import ImpactMap, ImpactMaxima
+from filmscale.continuum.errors import InputError
+
+IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
+
+
+@contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path`` (same suffix) that is renamed to ``path`` when
+    the block ends without error, and removed otherwise."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}",
+                               dir=path.parent)
+    os.close(fd)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+@contextmanager
+def atomic_h5(path):
+    """Yield an open h5py File that appears at ``path`` only once fully written."""
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+        yield f
+
+
+def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
+                      provenance: dict[str, str], scene_text: str = "") -> Path:
+    """One file holding impact maps on shared axes: /velocity, /radius, one group per label
+    (e.g. "layered", "homogeneous") with a dataset per result field, and the scene text."""
+    labels = list(maps)
+    first = maps[labels[0]]
+    with atomic_h5(path) as f:
+        f.attrs["format"] = IMPACT_MAP_FORMAT
+        for key, value in provenance.items():
+            f.attrs[key] = value
+        f.create_dataset("scene", data=scene_text)
+        for name in ("velocity", "radius"):
+            f.create_dataset(name, data=getattr(first, name)).attrs["units"] = (
+                ImpactMaxima.UNITS[name])
+        f.attrs["mass"] = first.mass
+        f.attrs["mass_units"] = "kg"
+        for label in labels:
+            g = f.create_group(label)
+            fields = maps[label].to_dict()
+            for key, values in fields.items():
+                if key in ("velocity", "radius", "mass"):
+                    continue
+                ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
+                ds.attrs["units"] = ImpactMaxima.UNITS.get(key, "1")
+            g.attrs["regime_names"] = json.dumps(list(maps[label].maxima.regime_names))
+            g.attrs["status_codes"] = json.dumps({0: "ok", 1: "approach exceeds R",
+                                                  2: "unloading inconsistent"})
+            g.attrs["model"] = json.dumps(models.get(label, {}))
+    return Path(path)
+
+
+def read_impact_maps(path) -> tuple[dict[str, dict[str, np.ndarray]], dict]:
+    """(fields by label, root attributes) of a file written by `write_impact_maps`."""
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("format") != IMPACT_MAP_FORMAT:
+                raise InputError(f"{path} is not a filmscale impact-map file")
+            attrs = dict(f.attrs)
+            axes = {name: f[name][()] for name in ("velocity", "radius")}
+            out = {}
+            for label, g in f.items():
+                if isinstance(g, h5py.Group):
+                    out[label] = {k: g[k][()] for k in g} | axes
+                    out[label]["regime_names"] = json.loads(g.attrs["regime_names"])
+                    out[label]["model"] = json.loads(g.attrs["model"])
+            attrs["scene"] = f["scene"][()].decode() if "scene" in f else ""
+    except OSError as err:
+        raise InputError(f"cannot read {path}: {err}") from None
+    return out, attrs

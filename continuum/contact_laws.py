@@ -124,8 +124,20 @@ class ContactLaw:
 
     def _clamped(self, severity, branch):
         """Severity raised to at least the lower threshold of its branch."""
+        if np.ndim(branch) == 0:
+            return severity if branch == 0 else np.maximum(severity, self.thresholds[branch - 1])
         lower = np.concatenate(([-np.inf], self.thresholds))[np.asarray(branch)]
         return np.maximum(severity, lower)
+
+
+def _by_branch(branch, *formulas):
+    """Value of formulas[branch] (the last one for every higher branch). A scalar branch
+    evaluates one formula only (the time integrator's case); an array selects elementwise."""
+    if np.ndim(branch) == 0:
+        return formulas[min(int(branch), len(formulas) - 1)]()
+    branch = np.asarray(branch)
+    return np.select([branch == k for k in range(len(formulas) - 1)],
+                     [f() for f in formulas[:-1]], formulas[-1]())
 
 
 def _hertz_area(delta, R):
@@ -226,11 +238,17 @@ class KomvopoulosYe(ContactLaw):
         delta = np.asarray(delta, dtype=float)
         branch = np.asarray(branch)
         eps = self._clamped(self.severity(delta, R, E_star, sigma_y, nu), branch)
-        ln_eps = np.log(np.maximum(eps, c["EPS1"]))   # only read on plastic branches
-        quad = c["Q2"] * ln_eps**2 + c["Q1"] * ln_eps + c["C2"]
-        pm_ratio = np.select([branch == 0, branch == 1],
-                             [c["K_EL"] * eps, c["SLOPE"] * ln_eps + c["C1"]], c["PLATEAU"])
-        area_ratio = np.select([branch == 0, branch == 3], [2.0, c["TAIL"]], quad)
+
+        def ln_eps():            # read on plastic branches only, where eps >= EPS1
+            return np.log(np.maximum(eps, c["EPS1"]))
+
+        def quad():
+            ln = ln_eps()
+            return c["Q2"] * ln**2 + c["Q1"] * ln + c["C2"]
+
+        pm_ratio = _by_branch(branch, lambda: c["K_EL"] * eps,
+                              lambda: c["SLOPE"] * ln_eps() + c["C1"], lambda: c["PLATEAU"])
+        area_ratio = _by_branch(branch, lambda: 2.0, quad, quad, lambda: c["TAIL"])
         area = np.pi * delta * (2.0 * R - delta) / area_ratio
         return pm_ratio * sigma_y * area, area
 
@@ -275,13 +293,12 @@ class KogutEtsion(ContactLaw):
         w_c, p_c = self._critical(R, E_star, sigma_y, nu)
         ws = self._clamped(delta / w_c, branch)
         a_c = np.pi * R * w_c
-        force = np.select([branch == 0, branch == 1, branch == 2],
-                          [hertz_force(delta, R, E_star), 1.03 * p_c * ws**1.425,
-                           1.40 * p_c * ws**1.263],
-                          2.0 * np.pi * R * ws * w_c * self.hardness_factor * sigma_y)
-        area = np.select([branch == 0, branch == 1, branch == 2],
-                         [_hertz_area(delta, R), 0.93 * a_c * ws**1.136, 0.94 * a_c * ws**1.146],
-                         2.0 * np.pi * R * ws * w_c)
+        force = _by_branch(branch, lambda: hertz_force(delta, R, E_star),
+                           lambda: 1.03 * p_c * ws**1.425, lambda: 1.40 * p_c * ws**1.263,
+                           lambda: 2.0 * np.pi * R * ws * w_c * self.hardness_factor * sigma_y)
+        area = _by_branch(branch, lambda: _hertz_area(delta, R),
+                          lambda: 0.93 * a_c * ws**1.136, lambda: 0.94 * a_c * ws**1.146,
+                          lambda: 2.0 * np.pi * R * ws * w_c)
         return force, area
 
 
@@ -316,18 +333,26 @@ class JacksonGreen(ContactLaw):
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
-        plastic = np.asarray(branch) >= 2
         w_c, p_c, c_sy = self._critical(R, E_star, sigma_y, nu)
-        ws = np.maximum(delta / w_c, 1.9)           # read only on the plastic branch
-        w = ws * w_c
-        area_p = np.pi * R * w * (ws / 1.9) ** (0.14 * np.exp(23.0 * sigma_y / E_star))
-        a_over_r = np.sqrt(area_p / np.pi) / R
-        h_g = 2.84 * sigma_y * (1.0 - np.exp(-0.82 * a_over_r ** -0.7))
-        force_p = p_c * (np.exp(-0.25 * ws ** (5.0 / 12.0)) * ws**1.5
-                         + 4.0 * h_g / c_sy * (1.0 - np.exp(-ws ** (5.0 / 9.0) / 25.0)) * ws)
-        force = np.where(plastic, force_p, hertz_force(delta, R, E_star))
-        area = np.where(plastic, area_p, _hertz_area(delta, R))
-        return force, area
+
+        def plastic():
+            ws = np.maximum(delta / w_c, 1.9)
+            w = ws * w_c
+            area = np.pi * R * w * (ws / 1.9) ** (0.14 * np.exp(23.0 * sigma_y / E_star))
+            a_over_r = np.sqrt(area / np.pi) / R
+            h_g = 2.84 * sigma_y * (1.0 - np.exp(-0.82 * a_over_r ** -0.7))
+            force = p_c * (np.exp(-0.25 * ws ** (5.0 / 12.0)) * ws**1.5
+                           + 4.0 * h_g / c_sy * (1.0 - np.exp(-ws ** (5.0 / 9.0) / 25.0)) * ws)
+            return force, area
+
+        def hertz():
+            return hertz_force(delta, R, E_star), _hertz_area(delta, R)
+
+        if np.ndim(branch) == 0:
+            return plastic() if branch >= 2 else hertz()
+        selected = np.asarray(branch) >= 2
+        (f_p, a_p), (f_h, a_h) = plastic(), hertz()
+        return np.where(selected, f_p, f_h), np.where(selected, a_p, a_h)
 
 
 # --- Thornton 1997 ----------------------------------------------------------------------------

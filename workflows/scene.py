@@ -101,7 +101,7 @@ class Scene:
     law: ContactLaw
     unloading: str = "auto"
     path: str = "fast"
-    rtol: float = 1e-10
+    rtol: float = 1e-8
     profile: TableProfile | None = None
     map: MapSpec = field(default_factory=MapSpec)
     title: str = ""
@@ -204,7 +204,7 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
     unloading = check_choice("model.unloading", model.get("unloading", "auto"),
                              ("auto",) + UNLOADING_MODELS)
     path = check_choice("model.path", model.get("path", "fast"), ("fast", "time"))
-    rtol = check_real("model.rtol", model.get("rtol", 1e-10), low=1e-13, high=1e-2)
+    rtol = check_real("model.rtol", model.get("rtol", 1e-8), low=1e-13, high=1e-2)
 
     profile = None
     if "profile" in target:

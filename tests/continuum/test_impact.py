@@ -108,7 +108,8 @@ def test_yield_velocity_separates_elastic_from_dissipative_impacts(name):
     vy = float(model.first_yield(R, M)[1])
     below, above = model.maxima(np.array([0.999, 1.001]) * vy, R, M).restitution
     assert below == 1.0
-    assert model.history(0.999 * vy, R, M).result.restitution == pytest.approx(1.0, abs=1e-8)
+    # integrated at the default rtol 1e-8: the rebound speed carries ~1e-7; the issue asks 1e-6
+    assert model.history(0.999 * vy, R, M).result.restitution == pytest.approx(1.0, abs=1e-6)
     if name == "hertz":
         assert above == 1.0                    # Hertz never dissipates
     elif name == "kogut-etsion":

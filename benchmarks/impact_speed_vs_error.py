@@ -1,0 +1,152 @@
+"""Speed against error of the two impact solution paths, and of a 100 x 100 (V, R) map.
+
+Run:  .venv/bin/python benchmarks/impact_speed_vs_error.py [--quick] [--plot FILE.png]
+
+Error is the largest relative error over the maxima (delta_max, force_max, mean_pressure_max,
+contact_radius_max, contact_time, restitution) of a set of impacts from elastic to deeply
+plastic (V from 0.3 to 150 V_Y), homogeneous and layered, against a tightly converged
+reference: the Hertz closed form for the elastic law, else time integration at rtol = 1e-13.
+Times are wall-clock medians on this machine; speed and error come from the same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum import (ElasticPlastic, ImpactModel, Layer, LayerStack, contact_law,
+                                 elastic_impact, yield_velocity)
+
+FIELDS = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max", "contact_time",
+          "restitution")
+GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
+SLIDER = ElasticPlastic(E=400e9, nu=0.23, name="AlTiC")
+MASS = 1.6e-6
+
+
+def disk():
+    mat = lambda n, e, s: ElasticPlastic(E=e, nu=0.3, sigma_y=s, name=n)  # noqa: E731
+    return LayerStack([Layer(4e-9, mat("DLC", 200e9, 8e9)), Layer(16e-9, mat("mag", 180e9, 5e9)),
+                       Layer(8e-9, mat("IL", 150e9, 3.5e9)), Layer(64e-9, mat("SUL", 130e9, 3e9))],
+                      GLASS)
+
+
+def cases(quick: bool):
+    R = 10e-6
+    vy = float(yield_velocity(MASS, R, GLASS.reduced_modulus(SLIDER), GLASS.sigma_y, GLASS.nu))
+    speeds = vy * np.geomspace(0.3, 150.0, 4 if quick else 8)
+    out = [("hertz", "homogeneous", GLASS, v, R) for v in speeds[:2]]
+    for law in ("komvopoulos-ye", "komvopoulos-ye-continuous", "jackson-green"):
+        for label, target in (("homogeneous", GLASS), ("layered", disk())):
+            out += [(law, label, target, v, R) for v in speeds]
+    return out
+
+
+def reference(law, target, V, R):
+    if law == "hertz":
+        ref = elastic_impact(MASS, R, V, GLASS.reduced_modulus(SLIDER))
+        return {k: float(getattr(ref, k)) for k in FIELDS[:-1]} | {"restitution": 1.0}
+    res = ImpactModel(target, contact_law(law), SLIDER).history(V, R, MASS, rtol=1e-13).result
+    return {k: getattr(res, k) for k in FIELDS}
+
+
+def rel_error(result, ref) -> float:
+    return max(abs(getattr(result, k) / ref[k] - 1.0) for k in FIELDS)
+
+
+def timed(fn, repeat: int):
+    times, value = [], None
+    for _ in range(repeat):
+        start = time.perf_counter()
+        value = fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), value
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer impacts and repeats")
+    parser.add_argument("--plot", help="write a speed-against-error plot (PNG)")
+    args = parser.parse_args(argv)
+    repeat = 2 if args.quick else 5
+    todo = cases(args.quick)
+    print(f"# {len(todo)} impacts; reference: Hertz closed form or time integration at "
+          f"rtol 1e-13", flush=True)
+    refs = []
+    for i, (law, label, target, V, R) in enumerate(todo, 1):
+        refs.append(reference(law, target, V, R))
+        print(f"\r# references {i}/{len(todo)}", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+
+    rows = []
+    for nodes in (6, 8, 12, 16):
+        errs, times = [], []
+        for (law, label, target, V, R), ref in zip(todo, refs):
+            model = ImpactModel(target, contact_law(law), SLIDER, quadrature_nodes=nodes)
+            t, res = timed(lambda: model.maxima(V, R, MASS).result(), repeat)
+            errs.append(rel_error(res, ref))
+            times.append(t)
+        rows.append(("energy quadrature", f"{nodes} nodes", statistics.median(times),
+                     max(errs)))
+    for rtol in (1e-4, 1e-6, 1e-8, 1e-10, 1e-12):
+        errs, times = [], []
+        for (law, label, target, V, R), ref in zip(todo, refs):
+            model = ImpactModel(target, contact_law(law), SLIDER)
+            t, res = timed(lambda: model.history(V, R, MASS, rtol=rtol).result, repeat)
+            errs.append(rel_error(res, ref))
+            times.append(t)
+        rows.append(("time integration", f"rtol {rtol:.0e}", statistics.median(times),
+                     max(errs)))
+
+    print("\n| path | setting | time per impact (ms, median) | max relative error |")
+    print("|---|---|---|---|")
+    for path, setting, t, err in rows:
+        print(f"| {path} | {setting} | {t * 1e3:.2f} | {err:.1e} |")
+
+    V = np.geomspace(1e-3, 2.0, 100)
+    R = np.geomspace(1e-6, 50e-6, 100)
+    rng = np.random.default_rng(20261121)
+    print("\n| 100 x 100 (V, R) map of maxima | time (s, median) | points computed | "
+          "max relative error (40 sampled points) |")
+    print("|---|---|---|---|")
+    for law, label, target in (("komvopoulos-ye", "homogeneous", GLASS),
+                               ("komvopoulos-ye", "layered", disk()),
+                               ("komvopoulos-ye-continuous", "layered", disk()),
+                               ("jackson-green", "homogeneous", GLASS)):
+        model = ImpactModel(target, contact_law(law), SLIDER)
+        model.maxima(V[:3], R[:3], MASS)          # warm-up: first-call imports
+        t, res = timed(lambda: model.maxima(V[None, :], R[:, None], MASS), 3 if args.quick else 5)
+        ok = np.argwhere(res.status != 1)
+        pick = ok[rng.choice(len(ok), size=min(40, len(ok)), replace=False)]
+        err = 0.0
+        for i, j in pick:
+            ref = model.history(V[j], R[i], MASS, rtol=1e-13).result
+            ref = {k: getattr(ref, k) for k in FIELDS}
+            err = max(err, rel_error(res.result((i, j)), ref))
+        print(f"| {law}, {label} | {t:.2f} | {len(ok)} | {err:.1e} |", flush=True)
+
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+        for path, marker in (("energy quadrature", "o"), ("time integration", "s")):
+            sel = [r for r in rows if r[0] == path]
+            ax.loglog([r[2] * 1e3 for r in sel], [max(r[3], 1e-16) for r in sel], marker=marker,
+                      label=path)
+            for r in sel:
+                ax.annotate(r[1], (r[2] * 1e3, max(r[3], 1e-16)), fontsize=7)
+        ax.set_xlabel("time per impact (ms)")
+        ax.set_ylabel("max relative error")
+        ax.legend()
+        fig.savefig(Path(args.plot), dpi=110)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

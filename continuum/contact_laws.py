@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import check_choice, check_real
+from .errors import InputError, check_choice, check_real
 from .hertz import first_yield as _hertz_first_yield
 from .hertz import hertz_force, yield_pressure_factor
 from .quadrature import integrate
@@ -403,18 +403,22 @@ class Thornton(ContactLaw):
         return d
 
 
-#: Names accepted in scene files and by ``contact_law``.
-LAW_NAMES = ("hertz", "komvopoulos-ye", "komvopoulos-ye-continuous", "kogut-etsion",
-             "jackson-green", "thornton")
+#: Names accepted in scene files and by ``contact_law``, with their constructors.
+_LAWS = {
+    "hertz": Hertz,
+    "komvopoulos-ye": lambda: KomvopoulosYe(continuous=False),
+    "komvopoulos-ye-continuous": lambda: KomvopoulosYe(continuous=True),
+    "kogut-etsion": KogutEtsion,
+    "jackson-green": JacksonGreen,
+    "thornton": Thornton,
+}
+LAW_NAMES = tuple(_LAWS)
 
 
 def contact_law(name: str, **options) -> ContactLaw:
     """The contact law called ``name`` (one of LAW_NAMES); options go to its constructor
     (``limiting_pressure_factor`` for Thornton)."""
     check_choice("contact_law", name, LAW_NAMES)
-    if name == "thornton":
-        return Thornton(**options)
-    if options:
-        raise TypeError(f"contact law {name!r} takes no options, got {sorted(options)}")
-    return {"hertz": Hertz, "kogut-etsion": KogutEtsion, "jackson-green": JacksonGreen}.get(
-        name, lambda: KomvopoulosYe(continuous=name.endswith("continuous")))()
+    if options and name != "thornton":
+        raise InputError(f"contact law {name!r} takes no options, got {sorted(options)}")
+    return _LAWS[name](**options)

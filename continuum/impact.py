@@ -33,10 +33,10 @@ from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
 from .materials import ElasticPlastic, reduced_modulus
 from .profiles import DepthProfile, profile_for
 from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
-from .restitution import UNLOADING_MODELS, Unloading, unload
+from .restitution import UNLOADING_MODELS, unload
 
 #: status codes of a fast-path point
-OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT = 0, 1, 2
+OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE = 0, 1, 2, 3
 STATUS_MESSAGES = {
     OK: "ok",
     EXCEEDS_RADIUS: "the approach would exceed the sphere radius R, where the contact laws "
@@ -44,12 +44,16 @@ STATUS_MESSAGES = {
     UNLOADING_INCONSISTENT: "the unloading model returns more energy than the loading took "
                             "(elastic recovery above the approach or e_y > 1): an artefact of "
                             "a contact law that jumps at its yield point",
+    UNLOADING_OUT_OF_RANGE: "the residual-depth fit leaves no elastic recovery this far past "
+                            "yield (jackson-chusoipin-green beyond delta_max/delta_Y ~ 1e4): "
+                            "loading maxima computed, unloading results not",
 }
 
 _GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
 _TIME_OCTAVES = 8      # loading-time pieces: delta_max x (1, 3/4, 1/2, ..., 2^-8), then to 0
 _SCAN_PER_OCTAVE = 4   # severity scan for breakpoints in depth-dependent targets
 _T_BOUND = 1e6        # integration limit in units of delta_ref / V (events end it earlier)
+_BLOCK = 1024         # fast-path points solved together
 
 
 @dataclass(frozen=True)
@@ -236,10 +240,8 @@ class ImpactModel:
 
     def warnings(self) -> tuple[str, ...]:
         """What the model leaves out for this target."""
-        target = self.target
-        materials = ([target.material] if hasattr(target, "material")
-                     else list(target.stack.materials()) if hasattr(target, "stack") else [])
-        hardening = [f"{mat.name or 'material'} n={mat.n:g}" for mat in materials if mat.n > 0]
+        hardening = [f"{mat.name or 'material'} n={mat.n:g}" for mat in self.target.materials()
+                     if mat.n > 0]
         if not hardening:
             return ()
         return (f"hardening exponents ({', '.join(hardening)}) are ignored: the contact laws "
@@ -337,8 +339,7 @@ class ImpactModel:
         bp_u = self.breakpoints(r_unique)
         edges, branches, work = self._work_table(r_unique, bp_u)
         bp = bp_u[inv]
-        yield_work = np.array([np.interp(b, e, w) if np.isfinite(b) else np.inf
-                               for b, e, w in zip(bp_u[:, 0], edges, work)])[inv]
+        yield_work = self._work_at(bp_u[:, 0], edges, work)[inv]
 
         status = np.where(energy > work[inv, -1], EXCEEDS_RADIUS, OK)
         ok = np.nonzero(status == OK)[0]
@@ -348,46 +349,53 @@ class ImpactModel:
         regime = np.full(V.size, -1)
         yielded = np.zeros(V.size, dtype=bool)
 
-        if ok.size:
-            r = inv[ok]
-            e_ok, R_ok, m_ok, V_ok, bp_ok = energy[ok], R[ok], m[ok], V[ok], bp[ok]
-            j = np.sum(work[r] <= e_ok[:, None], axis=1) - 1
-            j = np.minimum(j, edges.shape[1] - 2)
-            branch = branches[r, j]
-            d_max = self._solve_approach(e_ok, R_ok, edges[r, j], edges[r, j + 1],
-                                         work[r, j], work[r, j + 1], branch)
-            hist = self._loading_history(d_max, e_ok, R_ok, m_ok, bp_ok, branch)
-            estar_max = self.properties(d_max, R_ok)[0]
-            unl = unload(self.unloading, delta_max=d_max, force_max=hist["force_end"],
-                         area_max=hist["area_end"], E_star=estar_max, R=R_ok,
-                         yield_approach=bp_ok[:, 0])
-            # an elastic contact unloads along its loading curve: e_y = 1, no crater
-            elastic = branch < self.law.reversible_branches
-            residual = np.where(elastic, 0.0, unl.residual_depth)
-            e_y = np.where(elastic, 1.0, np.sqrt(unl.work / e_ok))
-            v_out = e_y * V_ok
-            t_unload = np.where(elastic, hist["time"],
-                                0.5 * HERTZ_DURATION_FACTOR * unl.elastic_recovery / v_out)
-            bad = (residual < -1e-12 * d_max) | (e_y > 1.0 + 1e-12)
-            status[ok] = np.where(bad, UNLOADING_INCONSISTENT, OK)
-            n_fields["delta_max"][ok] = d_max
-            n_fields["force_max"][ok] = hist["force_max"]
-            n_fields["mean_pressure_max"][ok] = hist["mean_pressure_max"]
-            n_fields["contact_radius_max"][ok] = np.sqrt(hist["area_max"] / np.pi)
-            n_fields["loading_time"][ok] = hist["time"]
-            n_fields["unloading_time"][ok] = t_unload
-            n_fields["contact_time"][ok] = hist["time"] + t_unload
-            n_fields["residual_depth"][ok] = residual
-            n_fields["restitution"][ok] = e_y
-            n_fields["rebound_velocity"][ok] = v_out
-            regime[ok] = branch
-            yielded[ok] = branch >= 1
+        # blocks of points keep the (points x pieces x nodes) temporaries in reused memory
+        for block in np.array_split(ok, -(-ok.size // _BLOCK)) if ok.size else ():
+            self._fill_maxima(block, inv[block], energy, V, R, m, bp, edges, branches, work,
+                              n_fields, status, regime, yielded)
 
         return ImpactMaxima(**{k: v.reshape(shape) for k, v in n_fields.items()},
                             yielded=yielded.reshape(shape), regime=regime.reshape(shape),
                             status=status.reshape(shape), regime_names=self.law.regime_names,
                             contact_law=self.law.name, unloading=self.unloading,
                             warnings=self.warnings())
+
+    def _fill_maxima(self, ok, r, energy, V, R, m, bp, edges, branches, work, n_fields,
+                     status, regime, yielded):
+        """Solve the points ``ok`` (rows ``r`` of the work table) and write their results."""
+        e_ok, R_ok, m_ok, V_ok, bp_ok = energy[ok], R[ok], m[ok], V[ok], bp[ok]
+        j = np.minimum(np.sum(work[r] <= e_ok[:, None], axis=1) - 1, edges.shape[1] - 2)
+        branch = branches[r, j]
+        d_max = self._solve_approach(e_ok, R_ok, edges[r, j], edges[r, j + 1],
+                                     work[r, j], work[r, j + 1], branch)
+        hist = self._loading_history(d_max, e_ok, R_ok, m_ok, bp_ok, branch)
+        estar_max = self.properties(d_max, R_ok)[0]
+        unl = unload(self.unloading, delta_max=d_max, force_max=hist["force_end"],
+                     area_max=hist["area_end"], E_star=estar_max, R=R_ok,
+                     yield_approach=bp_ok[:, 0])
+        # an elastic contact unloads along its loading curve: e_y = 1, no crater
+        elastic = branch < self.law.reversible_branches
+        beyond_fit = ~elastic & (unl.elastic_recovery <= 0)
+        residual = np.where(elastic, 0.0, np.where(beyond_fit, np.nan, unl.residual_depth))
+        e_y = np.where(elastic, 1.0, np.sqrt(np.where(beyond_fit, np.nan, unl.work) / e_ok))
+        v_out = e_y * V_ok
+        t_unload = np.where(elastic, hist["time"],
+                            0.5 * HERTZ_DURATION_FACTOR * unl.elastic_recovery / v_out)
+        bad = (residual < -1e-12 * d_max) | (e_y > 1.0 + 1e-12)
+        status[ok] = np.select([beyond_fit, bad], [UNLOADING_OUT_OF_RANGE,
+                                                   UNLOADING_INCONSISTENT], OK)
+        n_fields["delta_max"][ok] = d_max
+        n_fields["force_max"][ok] = hist["force_max"]
+        n_fields["mean_pressure_max"][ok] = hist["mean_pressure_max"]
+        n_fields["contact_radius_max"][ok] = np.sqrt(hist["area_max"] / np.pi)
+        n_fields["loading_time"][ok] = hist["time"]
+        n_fields["unloading_time"][ok] = t_unload
+        n_fields["contact_time"][ok] = hist["time"] + t_unload
+        n_fields["residual_depth"][ok] = residual
+        n_fields["restitution"][ok] = e_y
+        n_fields["rebound_velocity"][ok] = v_out
+        regime[ok] = branch
+        yielded[ok] = branch >= 1
 
     def _loading_history(self, d_max, energy, R, m, bp, branch_end):
         """Loading time and the largest force, area and mean pressure over the loading.
@@ -489,10 +497,26 @@ class ImpactModel:
             best[rows] = np.maximum(best[rows], refined)
         return best
 
+    @staticmethod
+    def _work_at(depth, edges, work):
+        """Loading work at ``depth`` (one per row of the table), inf where ``depth`` is inf
+        (not reached before R). A finite ``depth`` is a breakpoint, hence exactly an edge."""
+        hit = edges == depth[:, None]
+        return np.where(hit.any(axis=1), work[np.arange(depth.size), np.argmax(hit, axis=1)],
+                        np.inf)
+
     def first_yield(self, radius, mass):
-        """(approach, velocity) at first yield for each broadcast (R, m); inf if not before R."""
-        res = self.maxima(np.ones(np.broadcast(radius, mass).shape), radius, mass)
-        return res.yield_approach, res.yield_velocity
+        """(approach, velocity) at first yield for each broadcast (R, m), in m and m/s; inf
+        where yield is not reached before delta = R."""
+        R = check_positive_array("radius", radius, "m")
+        m = check_positive_array("mass", mass, "kg")
+        R, m = np.broadcast_arrays(R, m)
+        r_unique, inv = np.unique(R.ravel(), return_inverse=True)
+        bp = self.breakpoints(r_unique)
+        edges, _, work = self._work_table(r_unique, bp)
+        approach = bp[:, 0][inv].reshape(R.shape)
+        velocity = np.sqrt(2.0 * self._work_at(bp[:, 0], edges, work)[inv].reshape(R.shape) / m)
+        return approach, velocity
 
     # --- time-integrated path ----------------------------------------------------------------
 
@@ -612,6 +636,9 @@ class ImpactModel:
 
             def unloading_force(d):
                 return force_area(np.maximum(d, 0.0), branch)[0]
+        elif unl.elastic_recovery <= 0:
+            raise ModelRangeError(f"{STATUS_MESSAGES[UNLOADING_OUT_OF_RANGE]} (V = {V:.6g} m/s, "
+                                  f"R = {R:.6g} m, m = {m:.6g} kg)")
         else:
             residual = float(unl.residual_depth)
 
@@ -664,7 +691,7 @@ class ImpactModel:
         for sol_k, ph, b, t_a, t_b in pieces:
             if ph != 1:
                 continue
-            ts = np.linspace(t_a, t_b, 4 * samples)
+            ts = np.linspace(t_a, t_b, samples)
             f_s, a_s = force_area(np.clip(sol_k.sol(ts)[0] * d_ref, 0.0, R), b)
             for key in keys:
                 q = _quantity(key, f_s, a_s)

@@ -80,6 +80,10 @@ class DepthProfile:
         """Depths (m) where the properties have kinks: quadrature must not straddle them."""
         return np.empty(0)
 
+    def materials(self) -> tuple[ElasticPlastic, ...]:
+        """The materials behind the profile (none for a measured table)."""
+        return ()
+
     def describe(self) -> dict:
         raise NotImplementedError
 
@@ -96,6 +100,9 @@ class UniformProfile(DepthProfile):
         m = self.material
         return (np.full(shape, m.plane_strain_modulus), np.full(shape, m.sigma_y),
                 np.full(shape, m.nu))
+
+    def materials(self) -> tuple[ElasticPlastic, ...]:
+        return (self.material,)
 
     def describe(self) -> dict:
         m = self.material
@@ -133,6 +140,9 @@ class StackProfile(DepthProfile):
         e_p, s_y, nus = self._props
         w1, w0 = self.weights(delta, R)
         return w0 @ e_p, w0 @ s_y, w1 @ nus
+
+    def materials(self) -> tuple[ElasticPlastic, ...]:
+        return self.stack.materials()
 
     def describe(self) -> dict:
         return {"kind": "stack", "weighting": "gao-multilayer",

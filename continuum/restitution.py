@@ -9,7 +9,9 @@ e_y = sqrt(W_unload / W_load) (exact for a rate-independent law). Models of delt
 - ``crater`` [C2]: R_new = 4 E* a_max^3 / (3 P_max), delta_e = a_max^2 / R_new (Johnson 1985
   section 11.5; Thornton 1997).
 - ``jackson-chusoipin-green`` [C1]: delta_res = 1.02 delta_max
-  (1 - ((delta_max/delta_Y + 5.9)/6.9)^(-0.54)).
+  (1 - ((delta_max/delta_Y + 5.9)/6.9)^(-0.54)). The fit leaves no elastic recovery beyond
+  delta_max/delta_Y of about 1e4 (delta_res >= delta_max); callers must check
+  ``elastic_recovery > 0``.
 - ``brake`` [C1]: delta_res = delta_max (1 - P_max / P_Hertz(delta_max)) (Brake 2015).
 
 Units: m, N, Pa, J, m/s; all functions broadcast.

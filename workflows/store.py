@@ -14,9 +14,16 @@ import h5py
 import numpy as np
 
 from filmscale.continuum import ImpactMap, ImpactMaxima
+from filmscale.continuum.impact import STATUS_MESSAGES
 from filmscale.continuum.errors import InputError
 
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 @contextmanager
@@ -30,6 +37,7 @@ def atomic_path(path):
     os.close(fd)
     try:
         yield tmp
+        os.chmod(tmp, 0o666 & ~_umask())    # mkstemp makes 0600; results are meant to be shared
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
@@ -68,8 +76,7 @@ def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
                 ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
                 ds.attrs["units"] = ImpactMaxima.UNITS.get(key, "1")
             g.attrs["regime_names"] = json.dumps(list(maps[label].maxima.regime_names))
-            g.attrs["status_codes"] = json.dumps({0: "ok", 1: "approach exceeds R",
-                                                  2: "unloading inconsistent"})
+            g.attrs["status_codes"] = json.dumps(STATUS_MESSAGES)
             g.attrs["model"] = json.dumps(models.get(label, {}))
     return Path(path)
 

@@ -6,7 +6,8 @@ import pytest
 from filmscale.continuum.contact_laws import LAW_NAMES, contact_law
 from filmscale.continuum.errors import InputError, ModelRangeError
 from filmscale.continuum.hertz import elastic_impact, elastic_impact_time, yield_velocity
-from filmscale.continuum.impact import EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT, ImpactModel
+from filmscale.continuum.impact import (EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT,
+                                        UNLOADING_OUT_OF_RANGE, ImpactModel)
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.restitution import thornton_restitution
 
@@ -278,3 +279,21 @@ def test_maxima_broadcast_shapes():
     assert res.delta_max.shape == (2, 3)
     single = model.maxima(0.2, 1e-5, M).result()
     assert single.delta_max == pytest.approx(float(res.delta_max[1, 1]), rel=1e-15)
+
+
+def test_residual_fit_beyond_its_range_is_marked_not_garbage():
+    # a soft metal (sigma_Y/E* ~ 1e-3) reaches delta_max/delta_Y > 1e4 before delta = R
+    metal = ElasticPlastic(E=70e9, nu=0.33, sigma_y=70e6, name="soft Al")
+    model = ImpactModel(metal, contact_law("jackson-green"))
+    res = model.maxima(np.geomspace(0.01, 50.0, 30), 1e-3, 1e-3)
+    beyond = res.status == UNLOADING_OUT_OF_RANGE
+    assert beyond.any() and (res.status == OK).any()
+    assert np.all(np.isfinite(res.delta_max[beyond])) and np.all(np.isfinite(res.force_max[beyond]))
+    assert np.all(np.isnan(res.restitution[beyond])) and np.all(np.isnan(res.residual_depth[beyond]))
+    ratio = res.delta_max / res.yield_approach
+    r_star = 6.9 * 51.0 ** (1 / 0.54) - 5.9        # 1.02 x^-0.54 = 0.02: no recovery left
+    assert ratio[beyond].min() > r_star > ratio[res.status == OK].max()
+    with pytest.raises(ModelRangeError, match="no elastic recovery"):
+        model.history(float(res.velocity[beyond][0]), 1e-3, 1e-3)
+    crater = ImpactModel(metal, contact_law("jackson-green"), unloading="crater")
+    assert np.all(crater.maxima(res.velocity[beyond], 1e-3, 1e-3).status == OK)

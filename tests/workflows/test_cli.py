@@ -1,6 +1,7 @@
 """The command line: JSON keys, exit status, HDF5 content, plots, atomic writes."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -9,7 +10,7 @@ import h5py
 import numpy as np
 import pytest
 
-from filmscale.continuum import contact_law, elastic_impact, ElasticPlastic
+from filmscale.continuum import ElasticPlastic, elastic_impact
 from filmscale.workflows.cli import main
 from filmscale.workflows.store import atomic_h5, read_impact_maps
 
@@ -139,3 +140,6 @@ def test_interrupted_write_leaves_nothing_and_keeps_the_old_file(tmp_path):
     with h5py.File(target) as f:
         assert f["x"][0] == 1.0
     assert [p.name for p in tmp_path.iterdir()] == ["result.h5"]
+    mask = os.umask(0)
+    os.umask(mask)
+    assert target.stat().st_mode & 0o777 == 0o666 & ~mask     # not mkstemp's private 0600

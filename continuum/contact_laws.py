@@ -172,9 +172,9 @@ class Hertz(ContactLaw):
 #: Constants of the Komvopoulos-Ye law as reconstructed in physics.md section 3 [R]:
 #: p_m/sigma_Y = K_EL eps (elastic), SLOPE ln(eps) + C1 (elastic-plastic), PLATEAU (fully
 #: plastic); A_t/A = 2 (elastic), Q2 ln(eps)^2 + Q1 ln(eps) + C2, TAIL (eps > EPS3).
-KY_LITERAL = {"EPS1": 1.78, "EPS2": 21.0, "EPS3": 400.0, "K_EL": 4.0 * math.sqrt(2.0) / (3.0 * math.pi),
-              "SLOPE": 0.70, "C1": 0.66, "Q2": 0.05, "Q1": -0.57, "C2": 2.4,
-              "PLATEAU": 2.8, "TAIL": 0.72}
+KY_LITERAL = {"EPS1": 1.78, "EPS2": 21.0, "EPS3": 400.0,
+              "K_EL": 4.0 * math.sqrt(2.0) / (3.0 * math.pi), "SLOPE": 0.70, "C1": 0.66,
+              "Q2": 0.05, "Q1": -0.57, "C2": 2.4, "PLATEAU": 2.8, "TAIL": 0.72}
 
 
 def _ky_continuous_constants(c: dict) -> dict:

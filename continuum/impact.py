@@ -325,8 +325,11 @@ class ImpactModel:
                 break
         return x
 
-    def maxima(self, velocity, radius, mass) -> ImpactMaxima:
-        """Maxima of the impacts at every broadcast (V, R, m) by energy quadrature."""
+    def maxima(self, velocity, radius, mass, progress=None) -> ImpactMaxima:
+        """Maxima of the impacts at every broadcast (V, R, m) by energy quadrature.
+
+        ``progress(done, total)``, if given, is called after each block of points.
+        """
         V = check_positive_array("velocity", velocity, "m/s")
         R = check_positive_array("radius", radius, "m")
         m = check_positive_array("mass", mass, "kg")
@@ -350,9 +353,13 @@ class ImpactModel:
         yielded = np.zeros(V.size, dtype=bool)
 
         # blocks of points keep the (points x pieces x nodes) temporaries in reused memory
+        done = 0
         for block in np.array_split(ok, -(-ok.size // _BLOCK)) if ok.size else ():
             self._fill_maxima(block, inv[block], energy, V, R, m, bp, edges, branches, work,
                               n_fields, status, regime, yielded)
+            done += block.size
+            if progress is not None:
+                progress(done, ok.size)
 
         return ImpactMaxima(**{k: v.reshape(shape) for k, v in n_fields.items()},
                             yielded=yielded.reshape(shape), regime=regime.reshape(shape),
@@ -368,7 +375,7 @@ class ImpactModel:
         branch = branches[r, j]
         d_max = self._solve_approach(e_ok, R_ok, edges[r, j], edges[r, j + 1],
                                      work[r, j], work[r, j + 1], branch)
-        hist = self._loading_history(d_max, e_ok, R_ok, m_ok, bp_ok, branch)
+        hist = self._loading_history(d_max, R_ok, m_ok, bp_ok, branch)
         estar_max = self.properties(d_max, R_ok)[0]
         unl = unload(self.unloading, delta_max=d_max, force_max=hist["force_end"],
                      area_max=hist["area_end"], E_star=estar_max, R=R_ok,
@@ -397,13 +404,14 @@ class ImpactModel:
         regime[ok] = branch
         yielded[ok] = branch >= 1
 
-    def _loading_history(self, d_max, energy, R, m, bp, branch_end):
+    def _loading_history(self, d_max, R, m, bp, branch_end):
         """Loading time and the largest force, area and mean pressure over the loading.
 
         Pieces in delta end at d_max (3/4, 1/2, 1/4, ... 2^-8) and at the breakpoints below
         d_max; in each, Gauss nodes in u = sqrt(1 - delta/d_max). In u the nearest singularity
-        (delta = 0) then lies at least 2.7 half-widths from every piece (Bernstein rho >= 5). E - W(delta) = integral_delta^d_max P is
-        accumulated from d_max down with the spectral running-integral matrix.
+        (delta = 0) then lies at least 2.7 half-widths from every piece (Bernstein rho >= 5).
+        The energy left, E - W(delta) = integral_delta^d_max P, is accumulated from d_max down
+        with the spectral running-integral matrix.
         """
         n = self.quadrature_nodes
         x, w = gauss_legendre_unit(n)
@@ -705,7 +713,8 @@ class ImpactModel:
                     maxima[key] = max(maxima[key], -res.fun)
 
         e_y = -y_sep[1]
-        status = OK if (residual >= -1e-12 * d_max and e_y <= 1.0 + 1e-12) else UNLOADING_INCONSISTENT
+        consistent = residual >= -1e-12 * d_max and e_y <= 1.0 + 1e-12
+        status = OK if consistent else UNLOADING_INCONSISTENT
         yield_work = (float(integrate(lambda d: force_area(d, 0)[0], 0.0, yield_approach, n=16))
                       if np.isfinite(yield_approach) else math.inf)
         result = ImpactResult(

@@ -61,12 +61,22 @@ class ImpactMap:
         return out
 
 
-def impact_map(model: ImpactModel, velocity, radius, mass) -> ImpactMap:
-    """Fast-path maxima of ``model`` for every (R, V) pair of the two 1-D axes."""
+#: largest map: the fast path holds about 2 kB per point in blocks, results 150 B per point
+MAX_MAP_POINTS = 4_000_000
+
+
+def impact_map(model: ImpactModel, velocity, radius, mass, progress=None) -> ImpactMap:
+    """Fast-path maxima of ``model`` for every (R, V) pair of the two 1-D axes.
+
+    ``progress(done, total)`` is passed on to `ImpactModel.maxima`.
+    """
     velocity = np.atleast_1d(np.asarray(velocity, dtype=float))
     radius = np.atleast_1d(np.asarray(radius, dtype=float))
     if velocity.ndim != 1 or radius.ndim != 1:
         raise InputError("impact map axes must be 1-D arrays of velocity and radius")
+    if velocity.size * radius.size > MAX_MAP_POINTS:
+        raise InputError(f"impact map of {velocity.size} x {radius.size} points exceeds "
+                         f"{MAX_MAP_POINTS} points: use fewer velocities or radii")
     mass = check_positive("mass", mass, "kg")
-    maxima = model.maxima(velocity[None, :], radius[:, None], mass)
+    maxima = model.maxima(velocity[None, :], radius[:, None], mass, progress=progress)
     return ImpactMap(velocity=velocity, radius=radius, mass=mass, maxima=maxima)

@@ -48,7 +48,8 @@ def _history_csv(history, path: Path) -> None:
 def cmd_impact(args) -> int:
     scene = load_scene(args.scene)
     imp = scene.impactor
-    V = imp.velocity if args.velocity is None else check_positive("--velocity", args.velocity, "m/s")
+    V = (imp.velocity if args.velocity is None
+         else check_positive("--velocity", args.velocity, "m/s"))
     R = imp.radius if args.radius is None else check_positive("--radius", args.radius, "m")
     m = imp.mass if args.mass is None else check_positive("--mass", args.mass, "kg")
     model = scene.model()
@@ -82,8 +83,14 @@ def cmd_impact_map(args) -> int:
     start = time.perf_counter()
     maps = {}
     for key, model in models.items():
-        maps[key] = impact_map(model, velocity, radius, scene.impactor.mass)
-        print(f"{label_of[key]}: {velocity.size} x {radius.size} impacts", file=sys.stderr)
+        def progress(done, total, key=key):
+            print(f"\r{label_of[key]}: {done}/{total} impacts", end="", file=sys.stderr,
+                  flush=True)
+        large = velocity.size * radius.size > 20_000
+        maps[key] = impact_map(model, velocity, radius, scene.impactor.mass,
+                               progress=progress if large else None)
+        print(f"{chr(13) if large else ''}{label_of[key]}: {velocity.size} x {radius.size} "
+              f"impacts", file=sys.stderr)
     elapsed = time.perf_counter() - start
 
     from .provenance import provenance

@@ -289,7 +289,8 @@ def test_residual_fit_beyond_its_range_is_marked_not_garbage():
     beyond = res.status == UNLOADING_OUT_OF_RANGE
     assert beyond.any() and (res.status == OK).any()
     assert np.all(np.isfinite(res.delta_max[beyond])) and np.all(np.isfinite(res.force_max[beyond]))
-    assert np.all(np.isnan(res.restitution[beyond])) and np.all(np.isnan(res.residual_depth[beyond]))
+    assert np.all(np.isnan(res.restitution[beyond]))
+    assert np.all(np.isnan(res.residual_depth[beyond]))
     ratio = res.delta_max / res.yield_approach
     r_star = 6.9 * 51.0 ** (1 / 0.54) - 5.9        # 1.02 x^-0.54 = 0.02: no recovery left
     assert ratio[beyond].min() > r_star > ratio[res.status == OK].max()
@@ -297,3 +298,19 @@ def test_residual_fit_beyond_its_range_is_marked_not_garbage():
         model.history(float(res.velocity[beyond][0]), 1e-3, 1e-3)
     crater = ImpactModel(metal, contact_law("jackson-green"), unloading="crater")
     assert np.all(crater.maxima(res.velocity[beyond], 1e-3, 1e-3).status == OK)
+
+
+def test_progress_reports_every_block_and_ends_at_the_total():
+    from filmscale.continuum.impact_map import impact_map
+    calls = []
+    res = impact_map(ImpactModel(GLASS, contact_law("hertz")), np.geomspace(1e-3, 1, 60),
+                     np.geomspace(1e-6, 1e-4, 40), M, progress=lambda d, t: calls.append((d, t)))
+    computed = int((~res.out_of_range).sum())
+    assert calls[-1] == (computed, computed) and len(calls) == -(-computed // 1024)
+    assert all(b[0] > a[0] for a, b in zip(calls, calls[1:]))
+
+
+def test_oversized_map_is_refused_before_any_work():
+    from filmscale.continuum.impact_map import impact_map
+    with pytest.raises(InputError, match="exceeds 4000000 points"):
+        impact_map(ImpactModel(GLASS, contact_law("hertz")), np.ones(3000), np.ones(2000), M)

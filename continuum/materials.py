@@ -118,10 +118,6 @@ class LayerStack:
             depths.append(z)
         return tuple(depths)
 
-    @property
-    def total_thickness(self) -> float:
-        return sum(layer.thickness for layer in self.layers)
-
     def materials(self) -> tuple[ElasticPlastic, ...]:
         """Layer materials top first, then the substrate."""
         return tuple(layer.material for layer in self.layers) + (self.substrate,)

@@ -63,7 +63,8 @@ def unload(model: str, *, delta_max, force_max, area_max, E_star, R, yield_appro
         else:
             residual = delta_max * (1.0 - force_max / hertz_force(delta_max, R, E_star))
         recovery = delta_max - residual
-        radius = np.square(3.0 * force_max / (4.0 * E_star)) / recovery**3
+        with np.errstate(divide="ignore", invalid="ignore"):    # recovery <= 0: caller flags it
+            radius = np.square(3.0 * force_max / (4.0 * E_star) / recovery**1.5)
     return Unloading(residual_depth=delta_max - recovery, elastic_recovery=recovery,
                      radius=radius, work=0.4 * force_max * recovery)
 

@@ -35,8 +35,8 @@ def check_real(name: str, value, *, low: float = -math.inf, high: float = math.i
 
     Rejects None, booleans, non-numbers, NaN and infinities (unless the range admits them).
     """
-    if value is None or isinstance(value, bool):
-        raise InputError(f"{name} is missing or not a number (got {value!r})")
+    if value is None or isinstance(value, (bool, str)):
+        raise InputError(f"{name} must be a number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -58,18 +58,32 @@ def check_positive(name: str, value, unit: str = "") -> float:
                       unit=unit)
 
 
-def check_positive_array(name: str, values, unit: str = "") -> np.ndarray:
-    """A float array of finite values > 0 (scalars become 0-d arrays)."""
+def check_positive_array(name: str, values, unit: str = "", low: float = 0.0,
+                         high: float = math.inf) -> np.ndarray:
+    """A float array of finite values in (low, high] (scalars become 0-d arrays)."""
+    if isinstance(values, str) or (isinstance(values, (list, tuple))
+                                   and any(isinstance(v, (str, bool)) for v in values)):
+        raise InputError(f"{name} must be numbers, got {values!r}")
     try:
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be numbers, got {values!r}") from None
-    bad = ~np.isfinite(arr) | (arr <= 0)
+    bad = ~np.isfinite(arr) | (arr <= low) | (arr > high)
     if np.any(bad):
         first = arr[bad].flat[0]
         u = f" {unit}" if unit else ""
-        raise InputError(f"{name} contains {_fmt(first)}{u}: every value must be finite and > 0")
+        raise InputError(f"{name} contains {_fmt(first)}{u}: every value must be finite and "
+                         f"in ({_fmt(low)}, {_fmt(high)}]{u}")
     return arr
+
+
+#: valid ranges of impact inputs: generous physical bounds that also keep every product of
+#: them finite in double precision (above 1e4 m/s impacts are shock physics, not contact)
+VELOCITY_RANGE = (0.0, 1e4)       # m/s
+RADIUS_RANGE = (1e-12, 1e3)       # m
+MASS_RANGE = (0.0, 1e6)           # kg
+MODULUS_MAX = 1e14                # Pa
+THICKNESS_MAX = 1.0               # m
 
 
 def check_choice(name: str, value, choices: Iterable[str]) -> str:

@@ -27,8 +27,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, elementwise, minimize_scalar
 
 from .contact_laws import ContactLaw
-from .errors import (InputError, ModelRangeError, check_choice, check_positive,
-                     check_positive_array, check_real)
+from .errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError, ModelRangeError,
+                     check_choice, check_positive_array, check_real)
 from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
 from .materials import ElasticPlastic, reduced_modulus
 from .profiles import DepthProfile, profile_for
@@ -245,6 +245,16 @@ class ImpactModel:
         return (f"hardening exponents ({', '.join(hardening)}) are ignored: the contact laws "
                 f"are elastic-perfectly plastic",)
 
+    def _geometry_warnings(self, contact_radius, R) -> tuple[str, ...]:
+        """A contact radius above R (Kogut-Etsion's A = 2 pi R w, Jackson-Green's area fit far
+        past yield) means the law is used beyond its fitted range."""
+        with np.errstate(invalid="ignore"):
+            wide = int(np.sum(np.asarray(contact_radius) > np.asarray(R)))
+        if not wide:
+            return ()
+        return (f"{self.law.name} gives a contact radius larger than the sphere radius at "
+                f"{wide} point(s): the law is used beyond its fitted range there",)
+
     # --- regime breakpoints -------------------------------------------------------------------
 
     def breakpoints(self, R) -> np.ndarray:
@@ -333,10 +343,7 @@ class ImpactModel:
 
         ``progress(done, total)``, if given, is called after each block of points.
         """
-        V = check_positive_array("velocity", velocity, "m/s")
-        R = check_positive_array("radius", radius, "m")
-        m = check_positive_array("mass", mass, "kg")
-        V, R, m = np.broadcast_arrays(V, R, m)
+        V, R, m = _impact_inputs(velocity, radius, mass)
         shape = V.shape
         V, R, m = V.ravel(), R.ravel(), m.ravel()
         energy = 0.5 * m * V**2
@@ -368,7 +375,8 @@ class ImpactModel:
                             yielded=yielded.reshape(shape), regime=regime.reshape(shape),
                             status=status.reshape(shape), regime_names=self.law.regime_names,
                             contact_law=self.law.name, unloading=self.unloading,
-                            warnings=self.warnings())
+                            warnings=self.warnings() + self._geometry_warnings(
+                                n_fields["contact_radius_max"], R))
 
     def _fill_maxima(self, ok, r, energy, V, R, m, bp, edges, branches, work, n_fields,
                      status, regime, yielded):
@@ -516,9 +524,7 @@ class ImpactModel:
     def first_yield(self, radius, mass):
         """(approach, velocity) at first yield for each broadcast (R, m), in m and m/s; inf
         where yield is not reached before delta = R."""
-        R = check_positive_array("radius", radius, "m")
-        m = check_positive_array("mass", mass, "kg")
-        R, m = np.broadcast_arrays(R, m)
+        _, R, m = _impact_inputs(1.0, radius, mass)
         r_unique, inv = np.unique(R.ravel(), return_inverse=True)
         bp = self.breakpoints(r_unique)
         edges, _, work = self._work_table(r_unique, bp)
@@ -544,10 +550,11 @@ class ImpactModel:
         samples : int
             Points of dense output per phase in the returned histories.
         """
-        V = check_positive("velocity", velocity, "m/s")
-        R = check_positive("radius", radius, "m")
-        m = check_positive("mass", mass, "kg")
+        V, R, m = (float(x) for x in _impact_inputs(velocity, radius, mass))
         rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
+        check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+            raise InputError(f"samples = {samples!r} must be an integer >= 2")
         gap = check_real("gap", gap, low=0.0, high=math.inf, high_open=True, unit="m")
         law = self.law
         thr = law.thresholds
@@ -722,10 +729,20 @@ class ImpactModel:
             yielded=branch >= 1, regime=law.regime_names[branch],
             yield_approach=yield_approach, yield_velocity=yield_velocity,
             contact_law=law.name, unloading=self.unloading, path="time-integration",
-            status=status, message=STATUS_MESSAGES[status], warnings=self.warnings())
+            status=status, message=STATUS_MESSAGES[status],
+            warnings=self.warnings() + self._geometry_warnings(
+                math.sqrt(maxima["area_max"] / math.pi), R))
         return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
                              contact_radius=np.sqrt(area / np.pi), mean_pressure=mean_p,
                              branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
+
+
+def _impact_inputs(velocity, radius, mass):
+    """Checked, broadcast float arrays (V, R, m) within their valid ranges."""
+    return np.broadcast_arrays(
+        check_positive_array("velocity", velocity, "m/s", *VELOCITY_RANGE),
+        check_positive_array("radius", radius, "m", *RADIUS_RANGE),
+        check_positive_array("mass", mass, "kg", *MASS_RANGE))
 
 
 def _unloading_case(elastic, unl: Unloading):

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, check_choice, check_positive
+from .errors import InputError, check_choice, check_positive, check_real
 from .impact import EXCEEDS_RADIUS, ImpactMaxima, ImpactModel
 
 #: the quantities a map shows, with units (the dissertation's Figs. 3.2-3.5 and more)
@@ -19,11 +19,16 @@ MAP_FIELDS = {"delta_max": "m", "mean_pressure_max": "Pa", "force_max": "N",
               "restitution": "1"}
 
 
-def axis(low, high, count, spacing: str = "log", name: str = "axis") -> np.ndarray:
-    """``count`` values from ``low`` to ``high`` (both > 0), log- or linearly spaced."""
-    low = check_positive(f"{name} minimum", low)
-    high = check_positive(f"{name} maximum", high)
-    if isinstance(count, bool) or int(count) != count or not 1 <= int(count) <= 100_000:
+def axis(low, high, count, spacing: str = "log", name: str = "axis",
+         bounds: tuple[float, float] = (0.0, np.inf), unit: str = "") -> np.ndarray:
+    """``count`` values from ``low`` to ``high``, log- or linearly spaced, both within
+    ``bounds`` (open below)."""
+    low = check_real(f"{name} minimum", low, low=bounds[0], high=bounds[1], low_open=True,
+                     unit=unit)
+    high = check_real(f"{name} maximum", high, low=bounds[0], high=bounds[1], low_open=True,
+                      unit=unit)
+    if (isinstance(count, bool) or not isinstance(count, (int, float, np.integer))
+            or int(count) != count or not 1 <= int(count) <= 100_000):
         raise InputError(f"{name} count = {count!r} must be an integer in [1, 100000]")
     if high < low:
         raise InputError(f"{name} maximum {high:g} is below its minimum {low:g}")

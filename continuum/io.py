@@ -50,9 +50,11 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """Columns of a text table in SI, by header name. Raises InputError naming the file."""
     path = Path(path)
     try:
-        lines = path.read_text().splitlines()
+        lines = path.read_text(encoding="utf-8").splitlines()
     except OSError as err:
         raise InputError(f"cannot read table {path}: {err.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"table {path} is not UTF-8 text") from None
     lines = [ln for ln in lines if ln.strip()]
     if not lines or not re.search(r"[A-Za-z_]", lines[0]):
         raise InputError(f"table {path} has no header line naming its columns")

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .errors import InputError, check_positive, check_real
+from .errors import MODULUS_MAX, THICKNESS_MAX, InputError, check_real
 
 
 @dataclass(frozen=True)
@@ -40,7 +40,8 @@ class ElasticPlastic:
 
     def __post_init__(self):
         label = f"{self.name}." if self.name else ""
-        object.__setattr__(self, "E", check_positive(f"{label}E", self.E, "Pa"))
+        object.__setattr__(self, "E", check_real(f"{label}E", self.E, low=0.0, low_open=True,
+                                                 high=MODULUS_MAX, unit="Pa"))
         object.__setattr__(self, "nu", check_real(f"{label}nu", self.nu, low=-1.0, high=0.5,
                                                   low_open=True, high_open=True))
         sy = check_real(f"{label}sigma_y", self.sigma_y, low=0.0, high=math.inf, low_open=True,
@@ -88,7 +89,8 @@ class Layer:
     def __post_init__(self):
         name = self.material.name or "layer"
         object.__setattr__(self, "thickness",
-                           check_positive(f"{name}.thickness", self.thickness, "m"))
+                           check_real(f"{name}.thickness", self.thickness, low=0.0,
+                                      low_open=True, high=THICKNESS_MAX, unit="m"))
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum import MAP_FIELDS, impact_map
-from filmscale.continuum.errors import InputError, ModelRangeError, check_positive
+from filmscale.continuum.errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError,
+                                        ModelRangeError, check_real)
 
 from .scene import MapSpec, Scene, load_scene
 from .store import atomic_path
@@ -34,6 +35,38 @@ def _range_arg(text: str) -> tuple[float, float, int]:
     return low, high, count
 
 
+def _output_path(option: str, path: str | None, suffixes: tuple[str, ...] | None = None):
+    """Check an output file before any work: not a folder, no file in the way of its folder,
+    and (for plots) a format matplotlib writes. Missing folders are created when writing."""
+    if path is None:
+        return None
+    out = Path(path)
+    if out.is_dir():
+        raise InputError(f"{option} {path} is a folder: give a file name")
+    parent = out.parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"{option} {path}: {parent} is a file, not a folder")
+    if suffixes is not None and out.suffix.lower().lstrip(".") not in suffixes:
+        raise InputError(f"{option} {path}: the file name must end in one of "
+                         f"{', '.join('.' + s for s in suffixes)}")
+    return out
+
+
+def _json(obj) -> str:
+    """JSON with NaN and infinities as null (valid JSON for any reader)."""
+    def clean(value):
+        if isinstance(value, float) and not math.isfinite(value):
+            return None
+        if isinstance(value, dict):
+            return {k: clean(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [clean(v) for v in value]
+        return value
+    return json.dumps(clean(obj), allow_nan=False)
+
+
 def _history_csv(history, path: Path) -> None:
     columns = ("time [s]", "delta [m]", "velocity [m/s]", "force [N]", "contact_radius [m]",
                "mean_pressure [Pa]", "phase", "branch")
@@ -48,10 +81,18 @@ def _history_csv(history, path: Path) -> None:
 def cmd_impact(args) -> int:
     scene = load_scene(args.scene)
     imp = scene.impactor
-    V = (imp.velocity if args.velocity is None
-         else check_positive("--velocity", args.velocity, "m/s"))
-    R = imp.radius if args.radius is None else check_positive("--radius", args.radius, "m")
-    m = imp.mass if args.mass is None else check_positive("--mass", args.mass, "kg")
+    def option(name, value, default, bounds, unit):
+        if value is None:
+            return default
+        return check_real(name, value, low=bounds[0], high=bounds[1], low_open=True, unit=unit)
+
+    V = option("--velocity", args.velocity, imp.velocity, VELOCITY_RANGE, "m/s")
+    R = option("--radius", args.radius, imp.radius, RADIUS_RANGE, "m")
+    m = option("--mass", args.mass, imp.mass, MASS_RANGE, "kg")
+    _output_path("--history", args.history)
+    if args.plot:
+        from .plots import PLOT_FORMATS
+        _output_path("--plot", args.plot, PLOT_FORMATS)
     model = scene.model()
     want_history = args.history or args.plot or scene.path == "time"
     if want_history:
@@ -65,7 +106,7 @@ def cmd_impact(args) -> int:
     else:
         result = model.maxima(V, R, m).result(())
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(_json(result.to_dict()))
     else:
         print(result.summary())
     return 0
@@ -75,8 +116,16 @@ def cmd_impact_map(args) -> int:
     scene: Scene = load_scene(args.scene)
     spec = MapSpec(velocity=args.velocity or scene.map.velocity,
                    radius=args.radius or scene.map.radius,
-                   spacing=args.spacing or scene.map.spacing)
+                   spacing=args.spacing or scene.map.spacing,
+                   velocity_name="--velocity" if args.velocity else "map.velocity",
+                   radius_name="--radius" if args.radius else "map.radius")
     velocity, radius = spec.axes()
+    _output_path("--out", args.out)
+    if args.plot:
+        from .plots import PLOT_FORMATS
+        _output_path("--plot", args.plot, PLOT_FORMATS)
+        if velocity.size < 2 or radius.size < 2:
+            raise InputError("--plot draws contours: give at least 2 velocities and 2 radii")
     models = {"layered": scene.model()} if scene.layered else {}
     models["homogeneous"] = scene.substrate_model()
     label_of = {"layered": "layered target", "homogeneous": f"{scene.stack.substrate.name} only"}
@@ -118,7 +167,7 @@ def cmd_impact_map(args) -> int:
         summary[key]["restitution_min"] = float(np.nanmin(mp.field("restitution"))) \
             if ok.any() else math.nan
     if args.json:
-        print(json.dumps(summary))
+        print(_json(summary))
     else:
         print(f"wrote {out}" + (f" and {args.plot}" if args.plot else "")
               + f": {summary['points']} points per target in {elapsed:.2f} s")
@@ -178,6 +227,10 @@ def main(argv=None) -> int:
     except ModelRangeError as err:
         print(f"filmscale: {err}", file=sys.stderr)
         return 1
+    except OSError as err:          # writing results: full disk, permissions, ...
+        print(f"filmscale: error: cannot write {err.filename or ''}: {err.strerror or err}",
+              file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("filmscale: interrupted; nothing half-written was kept", file=sys.stderr)
         return 130

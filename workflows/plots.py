@@ -14,6 +14,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm  # noqa: E402
 from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
                                NullFormatter)
@@ -21,6 +22,9 @@ from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
 from filmscale.continuum import MAP_FIELDS, ImpactHistory, ImpactMap  # noqa: E402
 
 from .store import atomic_path  # noqa: E402
+
+#: file formats the plots can be written in
+PLOT_FORMATS = tuple(sorted(FigureCanvasAgg.get_supported_filetypes()))
 
 #: label, display unit and factor from SI for each map field
 DISPLAY = {

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import platform
+import subprocess
 import sys
 from datetime import datetime, timezone
 from importlib import metadata
+from pathlib import Path
 
 
 def _version(dist: str) -> str:
@@ -15,12 +17,30 @@ def _version(dist: str) -> str:
         return "not installed"
 
 
+def source_revision() -> str:
+    """The git commit of the filmscale source in use, "-dirty" if it has uncommitted changes;
+    "not a git checkout" for an installed wheel."""
+    root = Path(__file__).resolve().parents[1]
+    try:
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"],
+                              capture_output=True, text=True, timeout=10)
+        if head.returncode != 0:
+            return "not a git checkout"
+        status = subprocess.run(["git", "-C", str(root), "status", "--porcelain",
+                                 "--untracked-files=no"], capture_output=True, text=True,
+                                timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return "unknown"
+    return head.stdout.strip() + ("-dirty" if status.stdout.strip() else "")
+
+
 def provenance(**extra) -> dict[str, str]:
     """Flat string attributes for a result file: package versions, Python, platform, UTC time,
     plus ``extra`` (the command line, the scene source, ...). LAMMPS is recorded by the runs
     that use it."""
     info = {
         "filmscale_version": _version("filmscale"),
+        "source_revision": source_revision(),
         "python": sys.version.split()[0],
         "numpy": _version("numpy"),
         "scipy": _version("scipy"),

@@ -16,7 +16,9 @@ import numpy as np
 
 from filmscale.continuum import (DIAMOND, LAW_NAMES, UNLOADING_MODELS, ContactLaw, ElasticPlastic,
                                  ImpactModel, Layer, LayerStack, TableProfile, axis, contact_law)
-from filmscale.continuum.errors import InputError, check_choice, check_positive, check_real
+from filmscale.continuum.errors import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
+                                        VELOCITY_RANGE, InputError, check_choice,
+                                        check_positive, check_real)
 from filmscale.continuum.io import read_table
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
@@ -50,7 +52,8 @@ def _required(where: str, table: dict, key: str):
 
 def _material(where: str, table: dict, require_yield: bool = True) -> ElasticPlastic:
     _check_keys(where, table, _MATERIAL_KEYS)
-    E = check_positive(f"{where}.E", _required(where, table, "E"), "Pa")
+    E = check_real(f"{where}.E", _required(where, table, "E"), low=0.0, low_open=True,
+                   high=MODULUS_MAX, unit="Pa")
     nu = check_real(f"{where}.nu", _required(where, table, "nu"), low=-1.0, high=0.5,
                     low_open=True, high_open=True)
     if require_yield:
@@ -84,12 +87,15 @@ class MapSpec:
     radius: tuple[float, float, int] | None = None
     spacing: str = "log"
 
+    velocity_name: str = "map.velocity"
+    radius_name: str = "map.radius"
+
     def axes(self) -> tuple[np.ndarray, np.ndarray]:
         if self.velocity is None or self.radius is None:
             raise InputError("an impact map needs velocity and radius ranges: give "
                              "--velocity MIN:MAX:N --radius MIN:MAX:N or a [map] section")
-        return (axis(*self.velocity, self.spacing, "velocity"),
-                axis(*self.radius, self.spacing, "radius"))
+        return (axis(*self.velocity, self.spacing, self.velocity_name, VELOCITY_RANGE, "m/s"),
+                axis(*self.radius, self.spacing, self.radius_name, RADIUS_RANGE, "m"))
 
 
 @dataclass(frozen=True)
@@ -131,11 +137,14 @@ def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> Tab
             raise InputError("target.profile takes either file or h_c/E_r/H arrays, not both")
         columns = read_table(base / str(table["file"]), required=("h_c", "E_r", "H"))
     else:
-        columns = {k: _required("target.profile", table, k) for k in ("h_c", "E_r", "H")}
+        columns = {k: _numbers(f"target.profile.{k}", _required("target.profile", table, k))
+                   for k in ("h_c", "E_r", "H")}
     breakpoints = table.get("breakpoints", "layers")
     if breakpoints == "layers":
         breakpoints = stack.interface_depths
-    elif not isinstance(breakpoints, list):
+    elif isinstance(breakpoints, list):
+        breakpoints = _numbers("target.profile.breakpoints", breakpoints) if breakpoints else []
+    else:
         raise InputError(f"target.profile.breakpoints must be \"layers\" or a list of depths "
                          f"in m, got {breakpoints!r}")
     indenter = check_choice("target.profile.indenter", table.get("indenter", "diamond"),
@@ -143,13 +152,23 @@ def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> Tab
     return TableProfile.from_measurements(
         columns["h_c"], columns["E_r"], columns["H"], breakpoints=breakpoints,
         indenter=DIAMOND if indenter == "diamond" else None,
-        nu=table.get("nu", stack.substrate.nu), hardness_factor=law.hardness_factor)
+        nu=check_real("target.profile.nu", table.get("nu", stack.substrate.nu), low=-1.0,
+                      high=0.5, low_open=True, high_open=True),
+        hardness_factor=law.hardness_factor)
 
 
 def _range(where: str, value) -> tuple[float, float, int]:
     if not (isinstance(value, list) and len(value) == 3):
         raise InputError(f"{where} must be [min, max, count], got {value!r}")
-    return float(value[0]), float(value[1]), value[2]
+    return (check_positive(f"{where} minimum", value[0]),
+            check_positive(f"{where} maximum", value[1]), value[2])
+
+
+def _numbers(where: str, value) -> np.ndarray:
+    """A non-empty list of numbers (checked one by one, so the error names the entry)."""
+    if not isinstance(value, list) or not value:
+        raise InputError(f"{where} must be a list of numbers, got {value!r}")
+    return np.array([check_real(f"{where}[{i}]", v) for i, v in enumerate(value)])
 
 
 def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
@@ -170,11 +189,13 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
     if "E" in imp:
         imp_material = _material("impactor", {k: imp[k] for k in ("E", "nu")},
                                  require_yield=False)
+    def ranged(key, bounds, unit):
+        return check_real(f"impactor.{key}", _required("impactor", imp, key), low=bounds[0],
+                          high=bounds[1], low_open=True, unit=unit)
+
     impactor = Impactor(
-        radius=check_positive("impactor.radius", _required("impactor", imp, "radius"), "m"),
-        mass=check_positive("impactor.mass", _required("impactor", imp, "mass"), "kg"),
-        velocity=check_positive("impactor.velocity", _required("impactor", imp, "velocity"),
-                                "m/s"),
+        radius=ranged("radius", RADIUS_RANGE, "m"), mass=ranged("mass", MASS_RANGE, "kg"),
+        velocity=ranged("velocity", VELOCITY_RANGE, "m/s"),
         material=imp_material, name=str(imp.get("name", "impactor")))
 
     target = _check_keys("target", _required("scene", data, "target"), _SECTIONS["target"])
@@ -186,7 +207,8 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
     for i, raw in enumerate(raw_layers):
         where = f"target.layers[{i}]"
         _check_keys(where, raw, _SECTIONS["target.layers"])
-        thickness = check_positive(f"{where}.thickness", _required(where, raw, "thickness"), "m")
+        thickness = check_real(f"{where}.thickness", _required(where, raw, "thickness"),
+                               low=0.0, low_open=True, high=THICKNESS_MAX, unit="m")
         mat = _material(where, {k: v for k, v in raw.items() if k != "thickness"})
         layers.append(Layer(thickness, mat))
     stack = LayerStack(tuple(layers), substrate)
@@ -224,7 +246,9 @@ def load_scene(path) -> Scene:
     """Read and validate a scene file."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise InputError(f"cannot read scene {path}: {err.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"scene {path} is not UTF-8 text") from None
     return parse_scene(text, source=str(path), base=path.parent)

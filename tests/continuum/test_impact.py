@@ -381,3 +381,13 @@ def test_oversized_map_is_refused_before_any_work():
     from filmscale.continuum.impact_map import impact_map
     with pytest.raises(InputError, match="exceeds 4000000 points"):
         impact_map(ImpactModel(GLASS, contact_law("hertz")), np.ones(3000), np.ones(2000), M)
+
+
+def test_contact_radius_beyond_the_sphere_is_warned():
+    metal = ElasticPlastic(E=70e9, nu=0.33, sigma_y=70e6, name="soft Al")
+    model = ImpactModel(metal, contact_law("jackson-green"), unloading="crater")
+    res = model.maxima(np.array([0.01, 10.0]), 1e-3, 1e-3)    # a = 1.18 R at 10 m/s
+    wide = int(np.sum(res.contact_radius_max > res.radius))
+    assert wide == 1 and any("larger than the sphere radius at 1 point" in w
+                             for w in res.warnings)
+    assert not model.maxima(0.01, 1e-3, 1e-3).warnings

@@ -103,6 +103,9 @@ def test_impact_map_writes_si_hdf5_with_provenance_and_a_plot(tmp_path, capsys):
     fields, attrs = read_impact_maps(out)
     assert set(fields) == {"layered", "homogeneous"}
     assert attrs["filmscale_version"] and "slider_corner_disk" in attrs["scene_source"]
+    head = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                          cwd=Path(__file__).parent).stdout.strip()
+    assert attrs["source_revision"].startswith(head)
     assert "[target.substrate]" in attrs["scene"]
     with h5py.File(out) as f:
         assert f["layered/delta_max"].attrs["units"] == "m"
@@ -143,3 +146,64 @@ def test_interrupted_write_leaves_nothing_and_keeps_the_old_file(tmp_path):
     mask = os.umask(0)
     os.umask(mask)
     assert target.stat().st_mode & 0o777 == 0o666 & ~mask     # not mkstemp's private 0600
+
+
+def _scene_with(tmp_path, extra: str) -> str:
+    path = tmp_path / "scene.toml"
+    path.write_text(HERTZ_SCENE + extra)
+    return str(path)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["impact-map", "{scene}", "--velocity", "1e-3:1e300:5", "--radius", "1e-6:1e-5:5",
+      "--out", "{tmp}/m.h5"], "--velocity maximum = 1e+300 m/s is outside the valid range"),
+    (["impact-map", "{scene}", "--velocity", "1:1:1", "--radius", "1e-6:1e-5:3",
+      "--out", "{tmp}/m.h5", "--plot", "{tmp}/m.png"], "at least 2 velocities and 2 radii"),
+    (["impact-map", "{scene}", "--velocity", "0.1:1:3", "--radius", "1e-6:1e-5:3",
+      "--out", "{tmp}"], "is a folder"),
+    (["impact-map", "{scene}", "--velocity", "0.1:1:3", "--radius", "1e-6:1e-5:3",
+      "--out", "{scene}/x.h5"], "is a file, not a folder"),
+    (["impact", "{scene}", "--plot", "{tmp}/h.txt"], "the file name must end in one of"),
+    (["impact", "{scene}", "--mass", "1e9"], "--mass = 1e+09 kg is outside the valid range"),
+])
+def test_bad_paths_and_ranges_exit_2_before_any_work(tmp_path, capsys, argv, message):
+    scene = _scene_with(tmp_path, "")
+    argv = [a.format(scene=scene, tmp=tmp_path) for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not list(tmp_path.glob("*.h5")) and not list(tmp_path.glob("*.png"))
+
+
+@pytest.mark.parametrize("extra, message", [
+    ('\n[map]\nvelocity = [0.001, "a", 60]\n', "map.velocity maximum must be a number, got 'a'"),
+    ("\n[map]\nvelocity = [0.001, 2.0, [60]]\nradius = [1e-6, 1e-5, 4]\n",
+     "map.velocity count = [60] must be an integer"),
+    ('\n[target.profile]\nh_c = [1e-9, "a"]\nE_r = [1e11, 1e11]\nH = [1e10, 1e10]\n',
+     "target.profile.h_c[1] must be a number, got 'a'"),
+    ('\n[target.profile]\nh_c = "abc"\nE_r = [1e11]\nH = [1e10]\n',
+     "target.profile.h_c must be a list of numbers"),
+])
+def test_bad_scene_arrays_exit_2(tmp_path, capsys, extra, message):
+    assert main(["impact-map", _scene_with(tmp_path, extra), "--out", str(tmp_path / "m.h5")]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_string_numbers_and_non_utf8_scenes_are_refused(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(HERTZ_SCENE.replace("E = 90e9", 'E = "90e9"'))
+    assert main(["impact", str(scene)]) == 2
+    assert "target.substrate.E must be a number, got '90e9'" in capsys.readouterr().err
+    scene.write_bytes(b"\xff\xfe not text")
+    assert main(["impact", str(scene)]) == 2
+    assert "is not UTF-8 text" in capsys.readouterr().err
+
+
+def test_json_output_is_strict_json_with_null_for_missing_values(tmp_path, capsys):
+    # every point beyond the model's range: the maxima are null, not NaN
+    assert main(["impact-map", str(EXAMPLE), "--velocity", "100:200:3", "--radius",
+                 "1e-8:2e-8:3", "--out", str(tmp_path / "m.h5"), "--json"]) == 0
+    text = capsys.readouterr().out
+    summary = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
+    assert summary["layered"]["delta_max"] is None
+    assert summary["layered"]["out_of_range"] == 9

@@ -47,7 +47,7 @@ def test_minimal_scene_defaults():
     ("\n[model]\ncontact_law = \"hertzian\"\n", r"model.contact_law = 'hertzian' is not one of"),
     ("\n[model]\nlaw = \"hertz\"\n", r"unknown key model.law \(valid keys"),
     ("\n[[target.layers]]\nname = \"DLC\"\nthickness = 0.0\nE = 2e11\nnu = 0.25\nsigma_y = 8e9\n",
-     r"target.layers\[0\].thickness = 0 m is outside the valid range \(0, inf\)"),
+     r"target.layers\[0\].thickness = 0 m is outside the valid range \(0, 1\] m"),
     ("\n[[target.layers]]\nname = \"DLC\"\nthickness = -4e-9\nE = 2e11\nnu = 0.25\nsigma_y = 8e9\n",
      r"target.layers\[0\].thickness = -4e-09 m is outside"),
     ("\n[[target.layers]]\nname = \"DLC\"\nthickness = 4e-9\nE = nan\nnu = 0.25\nsigma_y = 8e9\n",

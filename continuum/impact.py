@@ -20,6 +20,8 @@ Units: SI throughout (m, kg, m/s, N, Pa, s, J).
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -363,13 +365,21 @@ class ImpactModel:
         yielded = np.zeros(V.size, dtype=bool)
 
         # blocks of points keep the (points x pieces x nodes) temporaries in reused memory
-        done = 0
-        for block in np.array_split(ok, -(-ok.size // _BLOCK)) if ok.size else ():
+        # blocks write disjoint entries; numpy releases the GIL in its array loops, so
+        # threads share the cores
+        blocks = np.array_split(ok, -(-ok.size // _BLOCK)) if ok.size else []
+
+        def solve(block):
             self._fill_maxima(block, inv[block], energy, V, R, m, bp, edges, branches, work,
                               n_fields, status, regime, yielded)
-            done += block.size
-            if progress is not None:
-                progress(done, ok.size)
+            return block.size
+
+        done = 0
+        with ThreadPoolExecutor(max_workers=min(len(blocks), os.cpu_count() or 1) or 1) as pool:
+            for size in pool.map(solve, blocks):
+                done += size
+                if progress is not None:
+                    progress(done, ok.size)
 
         return ImpactMaxima(**{k: v.reshape(shape) for k, v in n_fields.items()},
                             yielded=yielded.reshape(shape), regime=regime.reshape(shape),

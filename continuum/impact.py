@@ -374,8 +374,9 @@ class ImpactModel:
                               n_fields, status, regime, yielded)
             return block.size
 
+        workers = min(len(blocks), os.cpu_count() or 1)
         done = 0
-        with ThreadPoolExecutor(max_workers=min(len(blocks), os.cpu_count() or 1) or 1) as pool:
+        with ThreadPoolExecutor(workers) if workers > 1 else _Inline() as pool:
             for size in pool.map(solve, blocks):
                 done += size
                 if progress is not None:
@@ -745,6 +746,20 @@ class ImpactModel:
         return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
                              contact_radius=np.sqrt(area / np.pi), mean_pressure=mean_p,
                              branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
+
+
+class _Inline:
+    """The executor interface, run in the calling thread (one block: no pool to start)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    @staticmethod
+    def map(fn, items):
+        return map(fn, items)
 
 
 def _impact_inputs(velocity, radius, mass):

@@ -199,7 +199,9 @@ class TableProfile(DepthProfile):
         hardness_factor : float
             k_T in sigma_y = H / k_T; pass the contact law's ``hardness_factor``.
         """
-        h_c, E_r, H = (np.asarray(v, dtype=float).ravel() for v in (h_c, E_r, H))
+        h_c, E_r, H = (np.asarray(v, dtype=float) for v in (h_c, E_r, H))
+        if not (h_c.ndim == E_r.ndim == H.ndim == 1):
+            raise InputError("profile table columns h_c, E_r and H must be 1-D arrays")
         if not (h_c.size == E_r.size == H.size):
             raise InputError(f"profile table columns differ in length: h_c {h_c.size}, "
                              f"E_r {E_r.size}, H {H.size}")

@@ -77,12 +77,16 @@ class ContactLaw:
     #: branches below this index are elastic: unloading retraces loading (e_y = 1)
     reversible_branches: int = 1
 
-    def severity(self, delta, R, E_star, sigma_y, nu):
+    def critical_approach(self, R, E_star, sigma_y, nu):
+        """delta_c, m, for laws whose severity is delta / delta_c (all but Komvopoulos-Ye)."""
         raise NotImplementedError
+
+    def severity(self, delta, R, E_star, sigma_y, nu):
+        return np.asarray(delta, dtype=float) / self.critical_approach(R, E_star, sigma_y, nu)
 
     def approach_at_severity(self, value, R, E_star, sigma_y, nu):
         """Inverse of ``severity`` for constant properties, m."""
-        raise NotImplementedError
+        return value * self.critical_approach(R, E_star, sigma_y, nu)
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         """(P, A) on the given branch; see the module docstring."""
@@ -139,6 +143,18 @@ def _by_branch(branch, *formulas):
     return np.select([branch == k for k in range(len(formulas) - 1)], values[:-1], values[-1])
 
 
+def _hertz_or_plastic(branch, first_plastic, hertz, plastic):
+    """(P, A) from hertz() on branches below ``first_plastic`` and plastic() from it on; a
+    scalar branch evaluates one of them only."""
+    if np.ndim(branch) == 0:
+        return plastic() if branch >= first_plastic else hertz()
+    selected = np.asarray(branch) >= first_plastic
+    with np.errstate(all="ignore"):     # the plastic formula also runs on elastic points
+        f_p, a_p = plastic()
+    f_h, a_h = hertz()
+    return np.where(selected, f_p, f_h), np.where(selected, a_p, a_h)
+
+
 def _hertz_area(delta, R):
     return np.pi * R * delta
 
@@ -155,11 +171,8 @@ class Hertz(ContactLaw):
     regime_names = ("elastic", "elastic (first yield exceeded)")
     reversible_branches = 2
 
-    def severity(self, delta, R, E_star, sigma_y, nu):
-        return delta / _hertz_first_yield(R, E_star, sigma_y, nu).approach
-
-    def approach_at_severity(self, value, R, E_star, sigma_y, nu):
-        return value * _hertz_first_yield(R, E_star, sigma_y, nu).approach
+    def critical_approach(self, R, E_star, sigma_y, nu):
+        return _hertz_first_yield(R, E_star, sigma_y, nu).approach
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
@@ -284,11 +297,8 @@ class KogutEtsion(ContactLaw):
         p_c = (np.pi**3 / 6.0) * kh**3 * np.square(R) / np.square(E_star)
         return w_c, p_c
 
-    def severity(self, delta, R, E_star, sigma_y, nu):
-        return np.asarray(delta, dtype=float) / self._critical(R, E_star, sigma_y, nu)[0]
-
-    def approach_at_severity(self, value, R, E_star, sigma_y, nu):
-        return value * self._critical(R, E_star, sigma_y, nu)[0]
+    def critical_approach(self, R, E_star, sigma_y, nu):
+        return self._critical(R, E_star, sigma_y, nu)[0]
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
@@ -328,11 +338,8 @@ class JacksonGreen(ContactLaw):
         p_c = (np.pi**3 / 6.0) * c_sy**3 * np.square(R) / np.square(E_star)
         return w_c, p_c, c_sy
 
-    def severity(self, delta, R, E_star, sigma_y, nu):
-        return np.asarray(delta, dtype=float) / self._critical(R, E_star, sigma_y, nu)[0]
-
-    def approach_at_severity(self, value, R, E_star, sigma_y, nu):
-        return value * self._critical(R, E_star, sigma_y, nu)[0]
+    def critical_approach(self, R, E_star, sigma_y, nu):
+        return self._critical(R, E_star, sigma_y, nu)[0]
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
@@ -351,13 +358,7 @@ class JacksonGreen(ContactLaw):
         def hertz():
             return hertz_force(delta, R, E_star), _hertz_area(delta, R)
 
-        if np.ndim(branch) == 0:
-            return plastic() if branch >= 2 else hertz()
-        selected = np.asarray(branch) >= 2
-        with np.errstate(all="ignore"):  # the plastic formula also runs on elastic points
-            f_p, a_p = plastic()
-        f_h, a_h = hertz()
-        return np.where(selected, f_p, f_h), np.where(selected, a_p, a_h)
+        return _hertz_or_plastic(branch, 2, hertz, plastic)
 
 
 # --- Thornton 1997 ----------------------------------------------------------------------------
@@ -383,18 +384,12 @@ class Thornton(ContactLaw):
     def hardness_factor(self) -> float:
         return self.limiting_pressure_factor
 
-    def _yield_approach(self, R, E_star, sigma_y):
+    def critical_approach(self, R, E_star, sigma_y, nu):
         return np.square(np.pi * self.limiting_pressure_factor * sigma_y / (2.0 * E_star)) * R
-
-    def severity(self, delta, R, E_star, sigma_y, nu):
-        return np.asarray(delta, dtype=float) / self._yield_approach(R, E_star, sigma_y)
-
-    def approach_at_severity(self, value, R, E_star, sigma_y, nu):
-        return value * self._yield_approach(R, E_star, sigma_y)
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
-        d_y = self._yield_approach(R, E_star, sigma_y)
+        d_y = self.critical_approach(R, E_star, sigma_y, nu)
 
         def plastic():
             d_eff = np.maximum(delta, d_y)
@@ -405,13 +400,7 @@ class Thornton(ContactLaw):
         def hertz():
             return hertz_force(delta, R, E_star), _hertz_area(delta, R)
 
-        if np.ndim(branch) == 0:
-            return plastic() if branch >= 1 else hertz()
-        selected = np.asarray(branch) >= 1
-        with np.errstate(all="ignore"):  # the plastic formula also runs on elastic points
-            f_p, a_p = plastic()
-        f_h, a_h = hertz()
-        return np.where(selected, f_p, f_h), np.where(selected, a_p, a_h)
+        return _hertz_or_plastic(branch, 1, hertz, plastic)
 
     def describe(self) -> dict:
         d = super().describe()

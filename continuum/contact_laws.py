@@ -143,16 +143,18 @@ def _by_branch(branch, *formulas):
     return np.select([branch == k for k in range(len(formulas) - 1)], values[:-1], values[-1])
 
 
-def _hertz_or_plastic(branch, first_plastic, hertz, plastic):
-    """(P, A) from hertz() on branches below ``first_plastic`` and plastic() from it on; a
-    scalar branch evaluates one of them only."""
+def _hertz_or_plastic(branch, first_plastic, plastic, delta, R, E_star):
+    """(P, A): Hertz on branches below ``first_plastic``, plastic() from it on; a scalar
+    branch evaluates one of them only."""
+    if np.ndim(branch) == 0 and branch < first_plastic:
+        return hertz_force(delta, R, E_star), _hertz_area(delta, R)
     if np.ndim(branch) == 0:
-        return plastic() if branch >= first_plastic else hertz()
+        return plastic()
     selected = np.asarray(branch) >= first_plastic
     with np.errstate(all="ignore"):     # the plastic formula also runs on elastic points
         f_p, a_p = plastic()
-    f_h, a_h = hertz()
-    return np.where(selected, f_p, f_h), np.where(selected, a_p, a_h)
+    return (np.where(selected, f_p, hertz_force(delta, R, E_star)),
+            np.where(selected, a_p, _hertz_area(delta, R)))
 
 
 def _hertz_area(delta, R):
@@ -176,7 +178,7 @@ class Hertz(ContactLaw):
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
-        return hertz_force(delta, R, E_star), _hertz_area(delta, R) + 0.0 * np.asarray(branch)
+        return hertz_force(delta, R, E_star), _hertz_area(delta, R)
 
 
 # --- Komvopoulos & Ye 2001 ----------------------------------------------------------------------
@@ -355,10 +357,7 @@ class JacksonGreen(ContactLaw):
                            + 4.0 * h_g / c_sy * (1.0 - np.exp(-ws ** (5.0 / 9.0) / 25.0)) * ws)
             return force, area
 
-        def hertz():
-            return hertz_force(delta, R, E_star), _hertz_area(delta, R)
-
-        return _hertz_or_plastic(branch, 2, hertz, plastic)
+        return _hertz_or_plastic(branch, 2, plastic, delta, R, E_star)
 
 
 # --- Thornton 1997 ----------------------------------------------------------------------------
@@ -397,10 +396,7 @@ class Thornton(ContactLaw):
                      + np.pi * self.limiting_pressure_factor * sigma_y * R * (d_eff - d_y))
             return force, _hertz_area(d_eff, R)
 
-        def hertz():
-            return hertz_force(delta, R, E_star), _hertz_area(delta, R)
-
-        return _hertz_or_plastic(branch, 1, hertz, plastic)
+        return _hertz_or_plastic(branch, 1, plastic, delta, R, E_star)
 
     def describe(self) -> dict:
         d = super().describe()

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import nullcontext
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -222,6 +223,13 @@ class ImpactModel:
         if self.unloading == "auto":
             object.__setattr__(self, "unloading", self.law.default_unloading)
 
+    def describe(self) -> dict:
+        """Plain description for provenance: target, law, unloading, impactor."""
+        imp = self.impactor
+        return {"target": self.target.describe(), "law": self.law.describe(),
+                "unloading": self.unloading, "quadrature_nodes": self.quadrature_nodes,
+                "impactor": None if imp is None else {"E": imp.E, "nu": imp.nu}}
+
     # --- local physics ---------------------------------------------------------------------
 
     def properties(self, delta, R):
@@ -350,11 +358,9 @@ class ImpactModel:
         V, R, m = V.ravel(), R.ravel(), m.ravel()
         energy = 0.5 * m * V**2
 
-        r_unique, inv = np.unique(R, return_inverse=True)
-        bp_u = self.breakpoints(r_unique)
-        edges, branches, work = self._work_table(r_unique, bp_u)
+        inv, bp_u, edges, branches, work, yield_work_u = self._tables(R)
         bp = bp_u[inv]
-        yield_work = self._work_at(bp_u[:, 0], edges, work)[inv]
+        yield_work = yield_work_u[inv]
 
         status = np.where(energy > work[inv, -1], EXCEEDS_RADIUS, OK)
         ok = np.nonzero(status == OK)[0]
@@ -376,8 +382,8 @@ class ImpactModel:
 
         workers = min(len(blocks), os.cpu_count() or 1)
         done = 0
-        with ThreadPoolExecutor(workers) if workers > 1 else _Inline() as pool:
-            for size in pool.map(solve, blocks):
+        with ThreadPoolExecutor(workers) if workers > 1 else nullcontext() as pool:
+            for size in (pool.map if pool else map)(solve, blocks):
                 done += size
                 if progress is not None:
                     progress(done, ok.size)
@@ -524,24 +530,25 @@ class ImpactModel:
             best[rows] = np.maximum(best[rows], refined)
         return best
 
-    @staticmethod
-    def _work_at(depth, edges, work):
-        """Loading work at ``depth`` (one per row of the table), inf where ``depth`` is inf
-        (not reached before R). A finite ``depth`` is a breakpoint, hence exactly an edge."""
-        hit = edges == depth[:, None]
-        return np.where(hit.any(axis=1), work[np.arange(depth.size), np.argmax(hit, axis=1)],
-                        np.inf)
+    def _tables(self, R):
+        """For the distinct radii in ``R`` (1-D): the index of each R among them, the
+        breakpoints, the work table (edges, branches, work) and the work at first yield
+        (inf where yield is not reached before delta = R)."""
+        r_unique, inv = np.unique(R, return_inverse=True)
+        bp = self.breakpoints(r_unique)
+        edges, branches, work = self._work_table(r_unique, bp)
+        hit = edges == bp[:, :1]          # a finite breakpoint is exactly one of the edges
+        yield_work = np.where(hit.any(axis=1),
+                              work[np.arange(r_unique.size), np.argmax(hit, axis=1)], np.inf)
+        return inv, bp, edges, branches, work, yield_work
 
     def first_yield(self, radius, mass):
         """(approach, velocity) at first yield for each broadcast (R, m), in m and m/s; inf
         where yield is not reached before delta = R."""
         _, R, m = _impact_inputs(1.0, radius, mass)
-        r_unique, inv = np.unique(R.ravel(), return_inverse=True)
-        bp = self.breakpoints(r_unique)
-        edges, _, work = self._work_table(r_unique, bp)
+        inv, bp, _, _, _, yield_work = self._tables(R.ravel())
         approach = bp[:, 0][inv].reshape(R.shape)
-        velocity = np.sqrt(2.0 * self._work_at(bp[:, 0], edges, work)[inv].reshape(R.shape) / m)
-        return approach, velocity
+        return approach, np.sqrt(2.0 * yield_work[inv].reshape(R.shape) / m)
 
     # --- time-integrated path ----------------------------------------------------------------
 
@@ -658,17 +665,18 @@ class ImpactModel:
         if elastic:                               # unload along the loading curve
             residual = 0.0
 
-            def unloading_force(d):
-                return force_area(np.maximum(d, 0.0), branch)[0]
+            def unloading_state(d):
+                return force_area(np.maximum(d, 0.0), branch)
         else:
             residual = math.nan if beyond_fit else float(unl.residual_depth)
 
-            def unloading_force(d):
-                return unl.force(d, e_max)
+            def unloading_state(d):
+                return (unl.force(d, e_max),
+                        np.pi * np.maximum(np.asarray(d) - residual, 0.0) * unl.radius)
 
         def rhs_unloading(_, y):
             nfev[0] += 1
-            return [y[1], -float(unloading_force(y[0] * d_ref)) * accel]
+            return [y[1], -float(unloading_state(y[0] * d_ref)[0]) * accel]
 
         e_y = t_sep = math.nan
         if not beyond_fit:                        # else: loading only, as in the fast path
@@ -697,13 +705,8 @@ class ImpactModel:
             sel = load & (branch_arr == b)
             force[sel], area[sel] = force_area(delta[sel], int(b))
         unload_sel = phase == 2
-        if branch < law.reversible_branches:
-            force[unload_sel], area[unload_sel] = force_area(
-                np.maximum(delta[unload_sel], 0.0), branch)
-        else:
-            force[unload_sel] = unl.force(delta[unload_sel], e_max)
-            area[unload_sel] = np.pi * np.maximum(delta[unload_sel] - residual, 0.0) * unl.radius
-        mean_p = np.divide(force, area, out=np.zeros_like(force), where=area > 0)
+        force[unload_sel], area[unload_sel] = unloading_state(delta[unload_sel])
+        mean_p = _quantity("mean_pressure_max", force, area)
 
         # largest force, area and mean pressure over the loading: at d_max, at both sides of
         # each regime change, or at an interior peak of the dense solution (then refined)
@@ -748,20 +751,6 @@ class ImpactModel:
                              branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
 
 
-class _Inline:
-    """The executor interface, run in the calling thread (one block: no pool to start)."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
-
-    @staticmethod
-    def map(fn, items):
-        return map(fn, items)
-
-
 def _impact_inputs(velocity, radius, mass):
     """Checked, broadcast float arrays (V, R, m) within their valid ranges."""
     return np.broadcast_arrays(
@@ -801,7 +790,7 @@ def _quantity(key, force, area):
 
 
 def solve_impact(target, law, velocity, radius, mass, *, impactor=None, unloading="auto",
-           path="fast", **options) -> ImpactResult:
+                 path="fast", **options) -> ImpactResult:
     """One impact by the fast path (``path="fast"``) or time integration (``"time"``).
 
     Raises ModelRangeError when the approach would exceed R. See `ImpactModel`.

@@ -27,6 +27,10 @@ from .materials import DIAMOND, ElasticPlastic, LayerStack
 _X_MAX = 1e15   # I0(x), I1(x) equal 1 to double precision well before this
 
 
+def _material_dict(m: ElasticPlastic) -> dict:
+    return {"name": m.name, "E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "n": m.n}
+
+
 def _layer_weights(cumulative):
     """Differences of a cumulative weight at the interfaces (last axis): layer shares, then
     the substrate's 1 - I(z_N/a)."""
@@ -105,8 +109,7 @@ class UniformProfile(DepthProfile):
         return (self.material,)
 
     def describe(self) -> dict:
-        m = self.material
-        return {"kind": "uniform", "name": m.name, "E": m.E, "nu": m.nu, "sigma_y": m.sigma_y}
+        return {"kind": "uniform", **_material_dict(self.material)}
 
 
 @dataclass(frozen=True)
@@ -147,10 +150,9 @@ class StackProfile(DepthProfile):
     def describe(self) -> dict:
         return {"kind": "stack", "weighting": "gao-multilayer",
                 "contact_radius": "sqrt(R delta)",
-                "layers": [{"name": lay.material.name, "thickness": lay.thickness,
-                            "E": lay.material.E, "nu": lay.material.nu,
-                            "sigma_y": lay.material.sigma_y} for lay in self.stack.layers],
-                "substrate": UniformProfile(self.stack.substrate).describe()}
+                "layers": [{"thickness": lay.thickness, **_material_dict(lay.material)}
+                           for lay in self.stack.layers],
+                "substrate": _material_dict(self.stack.substrate)}
 
 
 @dataclass(frozen=True)

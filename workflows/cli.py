@@ -54,6 +54,19 @@ def _output_path(option: str, path: str | None, suffixes: tuple[str, ...] | None
     return out
 
 
+def _plot_path(path):
+    """Check a --plot file name before any work (see _output_path)."""
+    if path is not None:
+        from .plots import PLOT_FORMATS
+        _output_path("--plot", path, PLOT_FORMATS)
+
+
+def _extreme(reduce, values) -> float:
+    """max or min over the finite values; NaN if there are none."""
+    finite = values[np.isfinite(values)]
+    return float(reduce(finite)) if finite.size else math.nan
+
+
 def _json(obj) -> str:
     """JSON with NaN and infinities as null (valid JSON for any reader)."""
     def clean(value):
@@ -90,9 +103,7 @@ def cmd_impact(args) -> int:
     R = option("--radius", args.radius, imp.radius, RADIUS_RANGE, "m")
     m = option("--mass", args.mass, imp.mass, MASS_RANGE, "kg")
     _output_path("--history", args.history)
-    if args.plot:
-        from .plots import PLOT_FORMATS
-        _output_path("--plot", args.plot, PLOT_FORMATS)
+    _plot_path(args.plot)
     model = scene.model()
     want_history = args.history or args.plot or scene.path == "time"
     if want_history:
@@ -121,11 +132,9 @@ def cmd_impact_map(args) -> int:
                    radius_name="--radius" if args.radius else "map.radius")
     velocity, radius = spec.axes()
     _output_path("--out", args.out)
-    if args.plot:
-        from .plots import PLOT_FORMATS
-        _output_path("--plot", args.plot, PLOT_FORMATS)
-        if velocity.size < 2 or radius.size < 2:
-            raise InputError("--plot draws contours: give at least 2 velocities and 2 radii")
+    _plot_path(args.plot)
+    if args.plot and (velocity.size < 2 or radius.size < 2):
+        raise InputError("--plot draws contours: give at least 2 velocities and 2 radii")
     models = {"layered": scene.model()} if scene.layered else {}
     models["homogeneous"] = scene.substrate_model()
     label_of = {"layered": "layered target", "homogeneous": f"{scene.stack.substrate.name} only"}
@@ -144,12 +153,7 @@ def cmd_impact_map(args) -> int:
 
     from .provenance import provenance
     from .store import write_impact_maps
-    descriptions = {k: {"target": m.target.describe(), "law": m.law.describe(),
-                        "unloading": m.unloading,
-                        "impactor": None if m.impactor is None else
-                        {"E": m.impactor.E, "nu": m.impactor.nu}}
-                    for k, m in models.items()}
-    out = write_impact_maps(args.out, maps, descriptions,
+    out = write_impact_maps(args.out, maps, {k: m.describe() for k, m in models.items()},
                             provenance(command=" ".join(sys.argv), scene_source=scene.source),
                             scene.text)
     if args.plot:
@@ -159,13 +163,11 @@ def cmd_impact_map(args) -> int:
     summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
                "points": int(velocity.size * radius.size)}
     for key, mp in maps.items():
-        ok = ~mp.out_of_range
         summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
                         "yielded": int(mp.maxima.yielded.sum())}
-        summary[key].update({f: float(np.nanmax(mp.field(f))) if ok.any() else math.nan
+        summary[key].update({f: _extreme(np.max, mp.field(f))
                              for f in MAP_FIELDS if f != "restitution"})
-        summary[key]["restitution_min"] = float(np.nanmin(mp.field("restitution"))) \
-            if ok.any() else math.nan
+        summary[key]["restitution_min"] = _extreme(np.min, mp.field("restitution"))
     if args.json:
         print(_json(summary))
     else:

@@ -189,6 +189,7 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
     if "E" in imp:
         imp_material = _material("impactor", {k: imp[k] for k in ("E", "nu")},
                                  require_yield=False)
+
     def ranged(key, bounds, unit):
         return check_real(f"impactor.{key}", _required("impactor", imp, key), low=bounds[0],
                           high=bounds[1], low_open=True, unit=unit)

@@ -115,7 +115,7 @@ def test_impact_map_writes_si_hdf5_with_provenance_and_a_plot(tmp_path, capsys):
         status = f["layered/status"][()]
         delta = f["layered/delta_max"][()]
     assert np.all(np.isnan(delta[status == 1])) and np.all(np.isfinite(delta[status != 1]))
-    # the homogeneous map equals an independent library run on the bare substrate
+    # the file holds exactly what the library computes (store round trip, no oracle needed)
     from filmscale.workflows.scene import load_scene
     scene = load_scene(EXAMPLE)
     ref = scene.substrate_model().maxima(fields["homogeneous"]["velocity"][None, :],

@@ -1,18 +1,26 @@
-"""Reading columns of numbers with units in the header, converted to SI.
+"""Readers (and group writers) for continuum's data: unit-aware tables and load-displacement curves.
 
-The first non-empty line is the header (a leading # is allowed): it names each column and may
-give its unit in brackets, ``h_c [nm], E_r [GPa], H [GPa]`` (comma- or whitespace-separated).
-Later lines starting with # are comments. A column without a unit is taken as SI already.
+Text tables: the first non-empty line is the header (a leading # is allowed): it names each
+column and may give its unit in brackets, ``h_c [nm], E_r [GPa], H [GPa]`` or
+``h [nm], P [uN], t [s]`` (comma- or whitespace-separated). Later lines starting with # are
+comments. A column without a unit is taken as SI already.
+
+HDF5 curves (format ``filmscale.curve/1``): one group per curve with datasets ``h`` (m), ``P``
+(N), optional ``t`` (s) and ``segment`` (0 load, 1 hold, 2 unload), attributes ``indenter``
+and ``meta`` (JSON). `write_curve_group` fills a group of a file the caller opened (files are
+created by the workflows' atomic writers); `read_curves` reads every curve of a file.
 """
 
 from __future__ import annotations
 
 import io
+import json
 import re
 from pathlib import Path
 
 import numpy as np
 
+from .curves import LoadDisplacementCurve
 from .errors import InputError
 
 #: unit -> factor to SI (m, Pa, N, s)
@@ -22,6 +30,9 @@ UNITS = {
     "N": 1.0, "mN": 1e-3, "uN": 1e-6, "µN": 1e-6, "nN": 1e-9,
     "s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9, "ps": 1e-12,
     "1": 1.0, "-": 1.0,
+    "m^2": 1.0, "um^2": 1e-12, "µm^2": 1e-12, "nm^2": 1e-18,
+    "N/m": 1.0, "mN/nm": 1e6, "uN/nm": 1e3, "µN/nm": 1e3, "mN/um": 1e3, "uN/um": 1.0,
+    "nm/s": 1e-9,
 }
 
 _COLUMN = re.compile(r"\s*([^\[\],\s]+)\s*(?:\[([^\]]*)\])?\s*")
@@ -75,4 +86,77 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     if missing:
         raise InputError(f"table {path} lacks column(s) {', '.join(missing)} "
                          f"(it has {', '.join(out)})")
+    return out
+
+
+CURVE_FORMAT = "filmscale.curve/1"
+CURVE_SUFFIXES = (".csv", ".txt", ".dat", ".tsv")
+HDF5_SUFFIXES = (".h5", ".hdf5")
+#: accepted header names of each curve column (case-insensitive)
+CURVE_COLUMNS = {
+    "h": ("h", "depth", "displacement", "disp"),
+    "P": ("p", "load", "force", "f"),
+    "t": ("t", "time"),
+}
+
+
+def _curve_column(columns: dict, key: str, path) -> np.ndarray | None:
+    lower = {name.lower(): name for name in columns}
+    for alias in CURVE_COLUMNS[key]:
+        if alias in lower:
+            return columns[lower[alias]]
+    if key == "t":
+        return None
+    raise InputError(f"curve file {path} has no {key} column (header names accepted: "
+                     f"{', '.join(CURVE_COLUMNS[key])}; it has {', '.join(columns)})")
+
+
+def read_curve_text(path, indenter: str = "") -> LoadDisplacementCurve:
+    """A curve from a text table with a header such as ``h [nm], P [uN], t [s]``."""
+    columns = read_table(path)
+    h, P, t = (_curve_column(columns, key, path) for key in ("h", "P", "t"))
+    return LoadDisplacementCurve(h, P, t, indenter=indenter, meta={"source": str(path)})
+
+
+def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
+    """Store a curve in an open h5py group: datasets in SI with unit attributes."""
+    group.attrs["format"] = CURVE_FORMAT
+    for name, values, unit in (("h", curve.h, "m"), ("P", curve.P, "N"), ("t", curve.t, "s")):
+        if values is not None:
+            group.create_dataset(name, data=values).attrs["units"] = unit
+    group.create_dataset("segment", data=curve.segment).attrs["labels"] = "0 load, 1 hold, 2 unload"
+    group.attrs["indenter"] = curve.indenter
+    group.attrs["meta"] = json.dumps(dict(curve.meta), default=str)
+
+
+def read_curve_group(group) -> LoadDisplacementCurve:
+    """The curve stored by `write_curve_group`."""
+    t = group["t"][()] if "t" in group else None
+    return LoadDisplacementCurve(group["h"][()], group["P"][()], t, group["segment"][()],
+                                 indenter=str(group.attrs.get("indenter", "")),
+                                 meta=json.loads(group.attrs.get("meta", "{}")))
+
+
+def read_curves(path) -> dict[str, LoadDisplacementCurve]:
+    """Curves of a file by name: every curve group of an HDF5 file, or the one curve of a
+    text table (named by the file's stem)."""
+    path = Path(path)
+    if path.suffix.lower() not in HDF5_SUFFIXES:
+        return {path.stem: read_curve_text(path)}
+    import h5py     # only HDF5 readers need it
+
+    out = {}
+    try:
+        with h5py.File(path, "r") as f:
+            def visit(name, obj):
+                if isinstance(obj, h5py.Group) and obj.attrs.get("format") == CURVE_FORMAT:
+                    out[name] = read_curve_group(obj)
+            if f.attrs.get("format") == CURVE_FORMAT:
+                out[path.stem] = read_curve_group(f)
+            f.visititems(visit)
+    except OSError as err:
+        raise InputError(f"cannot read HDF5 file {path}: {err}") from None
+    if not out:
+        raise InputError(f"HDF5 file {path} holds no curve (no group with format "
+                         f"{CURVE_FORMAT!r})")
     return out

@@ -1,0 +1,429 @@
+"""Load-displacement curves: the contract between scales, their segments and their data checks.
+
+A `LoadDisplacementCurve` holds depth h (m), load P (N), optional time t (s) and a segment
+label per point (load, hold, unload), detected from the load rate when not given. MD runs,
+particle runs and instrument files all produce this one type; every analysis takes it.
+
+`check_curve` flags what would spoil an analysis (no unloading, too few unloading points, NaN
+rows, reversals, load or displacement offsets, drift during a hold) without raising: a batch
+of thousands of files keeps going and each result carries its flags. Frame-compliance and
+thermal-drift corrections return new curves (Fischer-Cripps, *Nanoindentation*, 2011, ch. 3;
+ISO 14577-1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+
+import numpy as np
+from scipy.signal import savgol_filter
+
+from .errors import InputError, check_positive, check_real
+
+LOAD, HOLD, UNLOAD = 0, 1, 2
+SEGMENT_NAMES = ("load", "hold", "unload")
+#: |dP/dt| below this fraction of the curve's typical (90th percentile) rate is a hold
+HOLD_RATE_FRACTION = 0.05
+
+
+@dataclass(frozen=True)
+class CurveFlag:
+    """A data problem found in a curve: a short ``code`` and a sentence for people."""
+
+    code: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.code}: {self.message}"
+
+
+@dataclass(frozen=True)
+class LoadDisplacementCurve:
+    """An indentation load-displacement record in SI.
+
+    Parameters
+    ----------
+    h : array_like
+        Indenter displacement into the surface, m (0 at the undeformed surface).
+    P : array_like
+        Load, N.
+    t : array_like or None
+        Time, s.
+    segment : array_like or None
+        Per-point label: 0/'load', 1/'hold', 2/'unload'. Detected from the load rate when None.
+    indenter : str
+        The tip, in the text form of `filmscale.continuum.tips.parse_tip` (``berkovich``,
+        ``sphere:5um``, ...); empty when unknown.
+    meta : mapping
+        Provenance: source file, instrument or simulation inputs, seeds, versions.
+
+    Non-finite rows are kept (so `check_curve` can report them) and dropped by `finite()`,
+    which every analysis calls first.
+    """
+
+    h: np.ndarray
+    P: np.ndarray
+    t: np.ndarray | None = None
+    segment: np.ndarray | None = None
+    indenter: str = ""
+    meta: MappingProxyType = field(default_factory=dict)
+
+    def __post_init__(self):
+        h = _column("h", self.h)
+        P = _column("P", self.P)
+        if h.size != P.size:
+            raise InputError(f"curve h and P differ in length: {h.size} and {P.size}")
+        if h.size < 2:
+            raise InputError(f"a curve needs at least 2 points, got {h.size}")
+        t = None if self.t is None else _column("t", self.t)
+        if t is not None and t.size != h.size:
+            raise InputError(f"curve t has {t.size} points but h has {h.size}")
+        object.__setattr__(self, "h", h)
+        object.__setattr__(self, "P", P)
+        object.__setattr__(self, "t", t)
+        seg = self.segment
+        if seg is None:
+            seg = detect_segments(h, P, t)
+        else:
+            seg = _segment_codes(seg, h.size)
+        seg.setflags(write=False)
+        object.__setattr__(self, "segment", seg)
+        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+
+    def __len__(self) -> int:
+        return self.h.size
+
+    @property
+    def P_max(self) -> float:
+        """Largest finite load, N."""
+        return float(np.nanmax(self.P))
+
+    @property
+    def h_max(self) -> float:
+        """Depth at the largest load, m (the start of unloading after a hold is `unloading`'s)."""
+        return float(self.h[int(np.nanargmax(self.P))])
+
+    def finite(self) -> LoadDisplacementCurve:
+        """This curve without rows that hold NaN or infinities."""
+        ok = np.isfinite(self.h) & np.isfinite(self.P)
+        if self.t is not None:
+            ok &= np.isfinite(self.t)
+        if ok.all():
+            return self
+        if ok.sum() < 2:
+            raise InputError("the curve has fewer than 2 finite points")
+        return replace(self, h=self.h[ok], P=self.P[ok], t=None if self.t is None else self.t[ok],
+                       segment=self.segment[ok])
+
+    def runs(self) -> list[tuple[int, int, int]]:
+        """Contiguous segments as (label, start, stop) with stop exclusive."""
+        return _runs(self.segment)
+
+    def unloading(self) -> slice:
+        """Index range of the unloading that starts from the peak load.
+
+        The first unload run after the largest load; a drift hold part-way down ends it.
+        Empty slice when there is none.
+        """
+        peak = int(np.nanargmax(self.P))
+        for label, start, stop in self.runs():
+            if label == UNLOAD and stop > peak + 1:
+                return slice(max(start - 1, peak), stop)
+        return slice(0, 0)
+
+    def loading(self) -> slice:
+        """Everything before the unloading from the peak (loading and the hold at peak)."""
+        unl = self.unloading()
+        return slice(0, unl.start + 1 if unl.stop > unl.start else len(self))
+
+    def frame_corrected(self, C_f: float) -> LoadDisplacementCurve:
+        """h - C_f P: the displacement of the sample alone, given frame compliance C_f (m/N)."""
+        C_f = check_real("frame compliance C_f", C_f, low=0.0, high=1.0, unit="m/N")
+        meta = {**self.meta, "frame_compliance": C_f}
+        return replace(self, h=self.h - C_f * self.P, segment=self.segment, meta=meta)
+
+    def drift_corrected(self, rate: float) -> LoadDisplacementCurve:
+        """h - rate (t - t0): removes a thermal drift of `rate` (m/s) measured on a hold."""
+        if self.t is None:
+            raise InputError("drift correction needs the curve's time column t")
+        rate = check_real("drift rate", rate, low=-1.0, high=1.0, unit="m/s")
+        meta = {**self.meta, "drift_rate": rate}
+        return replace(self, h=self.h - rate * (self.t - self.t[0]), segment=self.segment,
+                       meta=meta)
+
+    def to_dict(self) -> dict:
+        return {"h": self.h.tolist(), "P": self.P.tolist(),
+                "t": None if self.t is None else self.t.tolist(),
+                "segment": [SEGMENT_NAMES[s] for s in self.segment],
+                "indenter": self.indenter, "meta": dict(self.meta)}
+
+
+def _column(name, values) -> np.ndarray:
+    if isinstance(values, str):
+        raise InputError(f"curve {name} must be numbers, got {values!r}")
+    try:
+        arr = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"curve {name} must be numbers") from None
+    if arr.ndim != 1:
+        raise InputError(f"curve {name} must be 1-D, got shape {arr.shape}")
+    arr.setflags(write=False)
+    return arr
+
+
+def _segment_codes(seg, n) -> np.ndarray:
+    arr = np.asarray(seg)
+    if arr.dtype.kind in "US":
+        lookup = {name: k for k, name in enumerate(SEGMENT_NAMES)}
+        unknown = sorted(set(arr.tolist()) - set(lookup))
+        if unknown:
+            raise InputError(f"segment labels {unknown} are not among {SEGMENT_NAMES}")
+        arr = np.array([lookup[s] for s in arr.tolist()])
+    arr = np.array(arr, dtype=np.int8)
+    if arr.shape != (n,):
+        raise InputError(f"segment must have one label per point ({n}), got shape {arr.shape}")
+    if arr.size and (arr.min() < 0 or arr.max() > 2):
+        raise InputError("segment codes must be 0 (load), 1 (hold) or 2 (unload)")
+    return arr
+
+
+def _runs(labels) -> list[tuple[int, int, int]]:
+    if labels.size == 0:
+        return []
+    edges = np.flatnonzero(np.diff(labels)) + 1
+    starts = np.concatenate([[0], edges])
+    stops = np.concatenate([edges, [labels.size]])
+    return [(int(labels[a]), int(a), int(b)) for a, b in zip(starts, stops)]
+
+
+def _rate(P, t):
+    """dP/dt (or dP per sample without time), smoothed by a short Savitzky-Golay filter."""
+    n = P.size
+    window = min(max(5, n // 50) | 1, n - 1 if n % 2 == 0 else n)
+    if window < 3:
+        return np.gradient(P)
+    dP = savgol_filter(P, window, 2, deriv=1, mode="nearest")
+    if t is None:
+        return dP
+    dt = savgol_filter(t, window, 1, deriv=1, mode="nearest")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(dt > 0, dP / np.where(dt > 0, dt, 1.0), 0.0)
+
+
+def detect_segments(h, P, t=None, *, min_run=3) -> np.ndarray:
+    """Label each point load (0), hold (1) or unload (2) from the smoothed load rate.
+
+    A point is a hold where |dP/dt| is under 5 % of the curve's 90th-percentile rate; runs
+    shorter than ``min_run`` points join their neighbour. Non-finite rows get the label of
+    the previous finite one. Without time, the sample index stands in for time (instruments
+    sample at a steady rate).
+    """
+    h, P = np.asarray(h, dtype=float), np.asarray(P, dtype=float)
+    ok = np.isfinite(h) & np.isfinite(P)
+    if t is not None:
+        t = np.asarray(t, dtype=float)
+        ok &= np.isfinite(t)
+    labels = np.zeros(P.size, dtype=np.int8)
+    idx = np.flatnonzero(ok)
+    if idx.size < 3:
+        return labels
+    tt = None
+    if t is not None and np.all(np.diff(t[idx]) > 0):
+        tt = t[idx]
+    rate = _rate(P[idx], tt)
+    scale = np.percentile(np.abs(rate), 90)
+    lab = np.where(rate > 0, LOAD, UNLOAD).astype(np.int8)
+    if scale > 0:
+        lab[np.abs(rate) < HOLD_RATE_FRACTION * scale] = HOLD
+    Pi = P[idx]
+    peak, low = int(np.argmax(Pi)), 0.1 * float(np.max(Pi))
+    for label, start, stop in _runs(lab):    # noise at first contact, where P ~ h^2 rises slowly
+        if label != LOAD and stop <= peak and np.mean(Pi[start:stop]) < low:
+            lab[start:stop] = LOAD
+    for _ in range(2):      # short holds first become load/unload, then short blips merge
+        for label, start, stop in _runs(lab):
+            if stop - start < min_run and not (start == 0 and stop == lab.size):
+                lab[start:stop] = lab[start - 1] if start > 0 else lab[stop]
+    labels[idx] = lab
+    fill = np.maximum.accumulate(np.where(ok, np.arange(P.size), 0))
+    return labels[fill]
+
+
+# ---- data checks -------------------------------------------------------------------------
+
+#: codes of the data checks, in the order they are run
+FLAG_CODES = ("nan_data", "non_monotonic", "no_unloading", "few_unloading_points",
+              "zero_load_offset", "displacement_offset", "hold_drift")
+MIN_UNLOADING_POINTS = 10     #: in the 20-98 % fit window (ISO 14577 asks for a dense fit)
+OFFSET_FRACTION = 0.03        #: displacement offset flagged above this fraction of h_max
+LOAD_OFFSET_FRACTION = 0.01   #: negative loads below -1 % of P_max mean an unzeroed load cell
+DRIFT_FRACTION = 0.01         #: drift over the test above 1 % of h_max is flagged
+
+
+def displacement_offset(curve: LoadDisplacementCurve) -> float:
+    """Depth (m) at which the loading curve extrapolates to zero load.
+
+    Fits h = h_0 + k P^(1/m) to the loading between 2 % and 50 % of P_max by linear least
+    squares, for m = 2 (self-similar elastic-plastic, Kick's law) and m = 3/2 (Hertz), and
+    keeps the better fit; h_0 should be 0 when the surface was found correctly.
+    """
+    c = curve.finite()
+    load = c.loading()
+    h, P = c.h[load], c.P[load]
+    sel = (P > 0.02 * c.P_max) & (P < 0.5 * c.P_max) & (c.segment[load] == LOAD)
+    if sel.sum() < 4:
+        return 0.0
+    best = (math.inf, 0.0)
+    for m in (2.0, 1.5):
+        basis = np.stack([np.ones(sel.sum()), P[sel]**(1.0 / m)], axis=1)
+        coef, res, *_ = np.linalg.lstsq(basis, h[sel], rcond=None)
+        err = float(res[0]) if res.size else 0.0
+        best = min(best, (err, float(coef[0])))
+    return best[1]
+
+
+def _hold_drift_rates(c: LoadDisplacementCurve):
+    """(mean load, drift rate m/s) of each hold below half the peak load."""
+    out = []
+    if c.t is None:
+        return out
+    for label, start, stop in c.runs():
+        if label != HOLD or stop - start < 5:
+            continue
+        if np.mean(c.P[start:stop]) < 0.5 * c.P_max:
+            skip = start + (stop - start) // 5     # the first fifth still carries creep
+            rate = np.polyfit(c.t[skip:stop], c.h[skip:stop], 1)[0]
+            out.append((float(np.mean(c.P[start:stop])), float(rate)))
+    return out
+
+
+def drift_rate(curve: LoadDisplacementCurve) -> float:
+    """Thermal drift rate (m/s) from the last hold below half the peak load.
+
+    The slope of h against t over the hold, leaving out its first fifth where creep of the
+    contact still adds to the drift (ISO 14577-1 annex). Raises InputError when the curve has
+    no time column or no such hold.
+    """
+    c = curve.finite()
+    if c.t is None:
+        raise InputError("drift rate needs the curve's time column t")
+    rates = _hold_drift_rates(c)
+    if not rates:
+        raise InputError("the curve has no hold below half the peak load to measure drift on")
+    return rates[-1][1]
+
+
+def check_curve(curve: LoadDisplacementCurve, window=(0.2, 0.98)) -> tuple[CurveFlag, ...]:
+    """The data checks of a curve, as flags; an empty tuple for a clean curve."""
+    flags = []
+    bad = ~(np.isfinite(curve.h) & np.isfinite(curve.P))
+    if curve.t is not None:
+        bad |= ~np.isfinite(curve.t)
+    if bad.any():
+        flags.append(CurveFlag("nan_data", f"{int(bad.sum())} rows with NaN or infinite values "
+                               f"were left out"))
+    if bad.all() or (~bad).sum() < 3:
+        return tuple(flags)
+    c = curve.finite()
+    P_max = c.P_max
+    h_span = float(np.ptp(c.h)) or 1.0
+    load = c.loading()
+    h_load = c.h[load][c.segment[load] == LOAD]
+    reversal = float(np.max(np.maximum.accumulate(h_load) - h_load)) if h_load.size else 0.0
+    if c.t is not None and np.any(np.diff(c.t) <= 0):
+        flags.append(CurveFlag("non_monotonic", "time does not increase at every point"))
+    elif reversal > 0.02 * h_span:
+        flags.append(CurveFlag("non_monotonic", f"depth falls back by {reversal:.3g} m during "
+                               f"loading ({100 * reversal / h_span:.1f} % of the depth range)"))
+    unl = c.unloading()
+    if unl.stop - unl.start < 2:
+        flags.append(CurveFlag("no_unloading", "no unloading segment after the peak load"))
+    else:
+        P_unl = c.P[unl]
+        n_fit = int(np.sum((P_unl >= window[0] * P_max) & (P_unl <= window[1] * P_max)))
+        if n_fit < MIN_UNLOADING_POINTS:
+            flags.append(CurveFlag("few_unloading_points", f"{n_fit} unloading points in the "
+                                   f"{window[0]:.0%}-{window[1]:.0%} fit window (fewer than "
+                                   f"{MIN_UNLOADING_POINTS})"))
+    if P_max <= 0:
+        flags.append(CurveFlag("zero_load_offset", "the load never rises above zero"))
+    elif np.min(c.P) < -LOAD_OFFSET_FRACTION * P_max:
+        flags.append(CurveFlag("zero_load_offset", f"loads down to {np.min(c.P):.3g} N: the "
+                               f"zero of load is offset"))
+    else:
+        h0 = displacement_offset(c)
+        if abs(h0) > OFFSET_FRACTION * max(c.h_max, h_span):
+            flags.append(CurveFlag("displacement_offset", f"loading extrapolates to zero load "
+                                   f"at h = {h0:.3g} m, not 0: the surface was misplaced"))
+    duration = float(np.ptp(c.t)) if c.t is not None else 0.0
+    for load_mean, rate in _hold_drift_rates(c):
+        if abs(rate) * duration > DRIFT_FRACTION * max(c.h_max, h_span):
+            flags.append(CurveFlag("hold_drift", f"drift of {rate:.3g} m/s during the hold at "
+                                   f"{load_mean:.3g} N moves the depth by "
+                                   f"{abs(rate) * duration:.3g} m over the test"))
+            break
+    return tuple(flags)
+
+
+# ---- synthetic curves (known answers for tests, demos and benchmarks) ----------------------
+
+def synthetic_curve(E_r, H, tip, *, h_c, m=1.5, epsilon=None, beta=None, n_load=200,
+                    n_hold=50, n_unload=200, loading_time=10.0, hold_time=5.0,
+                    unloading_time=10.0, noise=0.0, seed=None) -> LoadDisplacementCurve:
+    """A curve whose Oliver-Pharr answer is known exactly.
+
+    Loading P = P_max (h / h_max)^2 (Kick's law), a hold at P_max, unloading
+    P = B (h - h_f)^m with B and h_f set so that H = P_max / A(h_c) and
+    E_r = sqrt(pi) S / (2 beta sqrt(A(h_c))) with S = m P_max / (h_max - h_f),
+    h_max = h_c + eps P_max / S.
+
+    Parameters
+    ----------
+    E_r, H : float
+        Reduced modulus and hardness, Pa.
+    tip : Tip
+        Area function (and default eps, beta).
+    h_c : float
+        Contact depth, m.
+    m : float
+        Unloading exponent, > 1.
+    noise : float
+        Standard deviation of Gaussian load noise as a fraction of P_max (needs ``seed``).
+    """
+    E_r, H = check_positive("E_r", E_r, "Pa"), check_positive("H", H, "Pa")
+    h_c = check_positive("h_c", h_c, "m")
+    m = check_real("m", m, low=1.0, high=10.0, low_open=True)
+    eps = tip.epsilon if epsilon is None else epsilon
+    beta = tip.beta if beta is None else beta
+    A = float(tip.area(h_c))
+    P_max = H * A
+    S = 2.0 * beta * E_r * math.sqrt(A) / math.sqrt(math.pi)
+    h_max = h_c + eps * P_max / S
+    h_f = h_max - m * P_max / S
+    if h_f < 0:
+        raise InputError(f"E_r = {E_r:.4g} Pa and H = {H:.4g} Pa give a negative final depth "
+                         f"with m = {m}: not a possible elastic-plastic curve")
+    B = P_max / (h_max - h_f)**m
+    h_load = np.linspace(0.0, h_max, n_load)
+    P_load = P_max * (h_load / h_max)**2
+    h_hold = np.full(n_hold, h_max)
+    P_hold = np.full(n_hold, P_max)
+    P_unl = np.linspace(P_max, 0.0, n_unload + 1)[1:]
+    h_unl = h_f + (P_unl / B)**(1.0 / m)
+    t = np.concatenate([np.linspace(0.0, loading_time, n_load),
+                        loading_time + np.linspace(0.0, hold_time, n_hold + 1)[1:],
+                        loading_time + hold_time
+                        + np.linspace(0.0, unloading_time, n_unload + 1)[1:]])
+    P = np.concatenate([P_load, P_hold, P_unl])
+    if noise:
+        if seed is None:
+            raise InputError("synthetic noise needs an explicit seed")
+        P = P + np.random.default_rng(seed).normal(0.0, noise * P_max, P.size)
+    seg = np.concatenate([np.full(n_load, LOAD), np.full(n_hold, HOLD),
+                          np.full(n_unload, UNLOAD)])
+    return LoadDisplacementCurve(np.concatenate([h_load, h_hold, h_unl]), P, t, seg,
+                                 indenter=tip.spec,
+                                 meta={"synthetic": True, "E_r": E_r, "H": H, "h_c": h_c,
+                                       "m": m, "seed": seed})

@@ -15,10 +15,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property, lru_cache
 from types import MappingProxyType
 
 import numpy as np
-from scipy.signal import savgol_filter
+from scipy.ndimage import convolve1d
+from scipy.signal import savgol_coeffs
 
 from .errors import InputError, check_positive, check_real
 
@@ -26,6 +28,10 @@ LOAD, HOLD, UNLOAD = 0, 1, 2
 SEGMENT_NAMES = ("load", "hold", "unload")
 #: |dP/dt| below this fraction of the curve's typical (90th percentile) rate is a hold
 HOLD_RATE_FRACTION = 0.05
+#: ... or below this many standard deviations of the rate that load noise alone produces
+NOISE_SIGMAS = 4.0
+#: the unloading from the peak must shed at least this fraction of P_max (noise blips do not)
+UNLOADING_MIN_DROP = 0.1
 
 
 @dataclass(frozen=True)
@@ -95,15 +101,20 @@ class LoadDisplacementCurve:
     def __len__(self) -> int:
         return self.h.size
 
+    @cached_property
+    def peak(self) -> int:
+        """Index of the largest finite load."""
+        return int(np.nanargmax(self.P))
+
     @property
     def P_max(self) -> float:
         """Largest finite load, N."""
-        return float(np.nanmax(self.P))
+        return float(self.P[self.peak])
 
     @property
     def h_max(self) -> float:
         """Depth at the largest load, m (the start of unloading after a hold is `unloading`'s)."""
-        return float(self.h[int(np.nanargmax(self.P))])
+        return float(self.h[self.peak])
 
     def finite(self) -> LoadDisplacementCurve:
         """This curve without rows that hold NaN or infinities."""
@@ -117,20 +128,28 @@ class LoadDisplacementCurve:
         return replace(self, h=self.h[ok], P=self.P[ok], t=None if self.t is None else self.t[ok],
                        segment=self.segment[ok])
 
+    @cached_property
+    def _runs(self) -> tuple[tuple[int, int, int], ...]:
+        return tuple(_runs(self.segment))
+
     def runs(self) -> list[tuple[int, int, int]]:
         """Contiguous segments as (label, start, stop) with stop exclusive."""
-        return _runs(self.segment)
+        return list(self._runs)
 
     def unloading(self) -> slice:
         """Index range of the unloading that starts from the peak load.
 
-        The first unload run after the largest load; a drift hold part-way down ends it.
-        Empty slice when there is none.
+        The first unload run after the largest load that sheds at least 10 % of it (shorter
+        dips in a noisy hold are skipped); a drift hold part-way down ends it. Empty slice
+        when there is none.
         """
-        peak = int(np.nanargmax(self.P))
-        for label, start, stop in self.runs():
+        peak = self.peak
+        P_max = self.P[peak]
+        for label, start, stop in self._runs:
             if label == UNLOAD and stop > peak + 1:
-                return slice(max(start - 1, peak), stop)
+                begin = max(start - 1, peak)
+                if P_max - np.nanmin(self.P[begin:stop]) >= UNLOADING_MIN_DROP * abs(P_max):
+                    return slice(begin, stop)
         return slice(0, 0)
 
     def loading(self) -> slice:
@@ -198,27 +217,61 @@ def _runs(labels) -> list[tuple[int, int, int]]:
     return [(int(labels[a]), int(a), int(b)) for a, b in zip(starts, stops)]
 
 
+@lru_cache(maxsize=64)
+def _derivative_kernel(window: int) -> np.ndarray:
+    return savgol_coeffs(window, 2, deriv=1, use="conv")
+
+
+def load_noise(P) -> float:
+    """Standard deviation (N) of the point-to-point noise of a load record.
+
+    The robust scatter (1.4826 MAD) of second differences over sqrt(6): smooth loading,
+    holds and unloading contribute almost nothing to second differences, noise does.
+    """
+    d2 = np.diff(np.asarray(P, dtype=float), 2)
+    if d2.size == 0:
+        return 0.0
+    return 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / math.sqrt(6.0)
+
+
 def _rate(P, t):
-    """dP/dt (or dP per sample without time), smoothed by a short Savitzky-Golay filter."""
+    """(dP/dt smoothed by a Savitzky-Golay filter (per median sampling interval), the
+    standard deviation that the load noise
+    gives it). dP per sample stands in for dP/dt when t is None.
+
+    The window starts at 2 % of the points (at least 5) and widens, up to 10 %, until the
+    noise in the smoothed rate is under a sixteenth of the typical rate, so that holds stay
+    separable from loading and unloading even on noisy records.
+    """
     n = P.size
-    window = min(max(5, n // 50) | 1, n - 1 if n % 2 == 0 else n)
+    largest = (n - 1) if n % 2 == 0 else n
+    window = min(max(5, n // 50) | 1, largest)
     if window < 3:
-        return np.gradient(P)
-    dP = savgol_filter(P, window, 2, deriv=1, mode="nearest")
-    if t is None:
-        return dP
-    dt = savgol_filter(t, window, 1, deriv=1, mode="nearest")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(dt > 0, dP / np.where(dt > 0, dt, 1.0), 0.0)
+        return np.gradient(P), 0.0
+    sigma = load_noise(P)
+    step = 1.0
+    if t is not None:
+        step = float(np.median(np.diff(t)))
+    while True:
+        kernel = _derivative_kernel(window)
+        rate = convolve1d(P, kernel, mode="nearest") / step
+        noise = sigma * float(np.linalg.norm(kernel)) / step
+        scale = np.percentile(np.abs(rate), 90)
+        wider = min(max(n // 10, 5) | 1, largest)
+        if NOISE_SIGMAS * noise <= 0.25 * scale or window >= wider:
+            return rate, noise
+        window = min(window * 2 + 1, wider)
 
 
 def detect_segments(h, P, t=None, *, min_run=3) -> np.ndarray:
     """Label each point load (0), hold (1) or unload (2) from the smoothed load rate.
 
-    A point is a hold where |dP/dt| is under 5 % of the curve's 90th-percentile rate; runs
-    shorter than ``min_run`` points join their neighbour. Non-finite rows get the label of
-    the previous finite one. Without time, the sample index stands in for time (instruments
-    sample at a steady rate).
+    A point is a hold where |dP/dt| is under 5 % of the curve's 90th-percentile rate, or
+    under four standard deviations of what the load noise gives the smoothed rate. Holds and
+    unloading blips at under 10 % of the peak load before the peak are loading (P ~ h^2
+    rises slowly from contact); runs shorter than ``min_run`` points join their neighbour.
+    Non-finite rows get the label of the previous finite one. Without time, the sample index
+    stands in for time (instruments sample at a steady rate).
     """
     h, P = np.asarray(h, dtype=float), np.asarray(P, dtype=float)
     ok = np.isfinite(h) & np.isfinite(P)
@@ -232,11 +285,10 @@ def detect_segments(h, P, t=None, *, min_run=3) -> np.ndarray:
     tt = None
     if t is not None and np.all(np.diff(t[idx]) > 0):
         tt = t[idx]
-    rate = _rate(P[idx], tt)
+    rate, noise = _rate(P[idx], tt)
     scale = np.percentile(np.abs(rate), 90)
     lab = np.where(rate > 0, LOAD, UNLOAD).astype(np.int8)
-    if scale > 0:
-        lab[np.abs(rate) < HOLD_RATE_FRACTION * scale] = HOLD
+    lab[np.abs(rate) < max(HOLD_RATE_FRACTION * scale, NOISE_SIGMAS * noise)] = HOLD
     Pi = P[idx]
     peak, low = int(np.argmax(Pi)), 0.1 * float(np.max(Pi))
     for label, start, stop in _runs(lab):    # noise at first contact, where P ~ h^2 rises slowly
@@ -258,7 +310,7 @@ FLAG_CODES = ("nan_data", "non_monotonic", "no_unloading", "few_unloading_points
               "zero_load_offset", "displacement_offset", "hold_drift")
 MIN_UNLOADING_POINTS = 10     #: in the 20-98 % fit window (ISO 14577 asks for a dense fit)
 OFFSET_FRACTION = 0.03        #: displacement offset flagged above this fraction of h_max
-LOAD_OFFSET_FRACTION = 0.01   #: negative loads below -1 % of P_max mean an unzeroed load cell
+LOAD_OFFSET_FRACTION = 0.01   #: loads below -1 % of P_max (beyond the noise): unzeroed load cell
 DRIFT_FRACTION = 0.01         #: drift over the test above 1 % of h_max is flagged
 
 
@@ -285,12 +337,13 @@ def displacement_offset(curve: LoadDisplacementCurve) -> float:
 
 
 def _hold_drift_rates(c: LoadDisplacementCurve):
-    """(mean load, drift rate m/s) of each hold below half the peak load."""
+    """(mean load, drift rate m/s) of each hold below half the peak load after the peak
+    (drift holds come during or after unloading, where creep has died out)."""
     out = []
     if c.t is None:
         return out
     for label, start, stop in c.runs():
-        if label != HOLD or stop - start < 5:
+        if label != HOLD or stop - start < 5 or start < c.peak:
             continue
         if np.mean(c.P[start:stop]) < 0.5 * c.P_max:
             skip = start + (stop - start) // 5     # the first fifth still carries creep
@@ -349,7 +402,7 @@ def check_curve(curve: LoadDisplacementCurve, window=(0.2, 0.98)) -> tuple[Curve
                                    f"{MIN_UNLOADING_POINTS})"))
     if P_max <= 0:
         flags.append(CurveFlag("zero_load_offset", "the load never rises above zero"))
-    elif np.min(c.P) < -LOAD_OFFSET_FRACTION * P_max:
+    elif np.min(c.P) < -LOAD_OFFSET_FRACTION * P_max - NOISE_SIGMAS * load_noise(c.P):
         flags.append(CurveFlag("zero_load_offset", f"loads down to {np.min(c.P):.3g} N: the "
                                f"zero of load is offset"))
     else:

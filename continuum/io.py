@@ -61,21 +61,20 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """Columns of a text table in SI, by header name. Raises InputError naming the file."""
     path = Path(path)
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise InputError(f"cannot read table {path}: {err.strerror}") from None
     except UnicodeDecodeError:
         raise InputError(f"table {path} is not UTF-8 text") from None
-    lines = [ln for ln in lines if ln.strip()]
-    if not lines or not re.search(r"[A-Za-z_]", lines[0]):
+    header, _, body = text.lstrip().partition("\n")
+    if not header or not re.search(r"[A-Za-z_]", header):
         raise InputError(f"table {path} has no header line naming its columns")
-    header = lines[0]
-    body = [ln for ln in lines[1:] if not ln.lstrip().startswith("#")]
-    if not body:
-        raise InputError(f"table {path} has a header but no rows of numbers")
     columns = parse_header(header)
+    if not re.search(r"^\s*[-+.0-9]", body, flags=re.MULTILINE):
+        raise InputError(f"table {path} has a header but no rows of numbers")
     try:
-        data = np.loadtxt(io.StringIO("\n".join(ln.replace(",", " ") for ln in body)), ndmin=2)
+        # one replace over the whole text: thousands of files are read in a batch
+        data = np.loadtxt(io.StringIO(body.replace(",", " ")), comments="#", ndmin=2)
     except ValueError as err:
         raise InputError(f"table {path}: {err}") from None
     if data.shape[1] != len(columns):
@@ -160,3 +159,35 @@ def read_curves(path) -> dict[str, LoadDisplacementCurve]:
         raise InputError(f"HDF5 file {path} holds no curve (no group with format "
                          f"{CURVE_FORMAT!r})")
     return out
+
+
+def read_area_function(path, base=None):
+    """A polynomial area function from a TOML file.
+
+    ``C = [C0, C1, ...]`` are the coefficients of A = C0 h^2 + C1 h + C2 h^(1/2) + ... and
+    ``length_unit`` (m, um or nm; default m) the unit of h in which they were fitted, A being
+    in its square, as instrument software reports them. ``base`` is the nominal tip
+    (Berkovich when None).
+    """
+    import tomllib
+
+    from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich
+
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as err:
+        raise InputError(f"cannot read area file {path}: {err.strerror}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise InputError(f"area file {path} is not valid TOML: {err}") from None
+    coef = data.get("C")
+    if not isinstance(coef, list) or not 1 <= len(coef) <= 9 or not all(
+            isinstance(c, (int, float)) and not isinstance(c, bool) for c in coef):
+        raise InputError(f"area file {path}: C must be a list of 1 to 9 numbers "
+                         f"(C0, C1, ... of A = C0 h^2 + C1 h + C2 h^(1/2) + ...)")
+    unit = data.get("length_unit", "m")
+    if unit not in ("m", "um", "µm", "nm"):
+        raise InputError(f"area file {path}: length_unit = {unit!r} is not one of m, um, nm")
+    u = UNITS[unit]
+    si = tuple(float(c) * u**(2.0 - p) for c, p in zip(coef, POLYNOMIAL_EXPONENTS))
+    return PolynomialArea(si, berkovich() if base is None else base)

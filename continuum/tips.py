@@ -384,7 +384,8 @@ TIP_FORMS = ("berkovich", "cube-corner", "cone:THETA", "sphere:R", "sphero-conic
              "flat:A")
 
 
-def _length(text: str, what: str) -> float:
+def parse_length(text: str, what: str) -> float:
+    """A length in m from text such as 250nm, 5um, 2e-6 (m when no unit)."""
     match = _NUMBER.match(text)
     if not match or match.group(2) not in ("", *_LENGTH_UNITS):
         raise InputError(f"{what} = {text!r} is not a length (a number in m, or with a unit "
@@ -413,12 +414,12 @@ def parse_tip(spec: str) -> Tip:
         if name == "cone" and len(args) == 1:
             return Cone(float(args[0]))
         if name == "sphere" and len(args) == 1:
-            return Sphere(_length(args[0], "sphere radius"))
+            return Sphere(parse_length(args[0], "sphere radius"))
         if name == "sphero-conical" and len(args) in (1, 2):
             angle = float(args[1]) if len(args) == 2 else BERKOVICH_CONE
-            return SphericalCone(_length(args[0], "tip radius"), angle)
+            return SphericalCone(parse_length(args[0], "tip radius"), angle)
         if name == "flat" and len(args) == 1:
-            return FlatPunch(_length(args[0], "punch radius"))
+            return FlatPunch(parse_length(args[0], "punch radius"))
     except InputError:
         raise
     except ValueError:      # float() of a malformed angle

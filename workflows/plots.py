@@ -176,3 +176,80 @@ def plot_history(history: ImpactHistory, path, title: str = "") -> Path:
     fig.suptitle(title or f"{res.contact_law}: V = {res.velocity:.3g} m/s, "
                  f"R = {res.radius * 1e6:.3g} µm, e_y = {res.restitution:.4f}")
     return _save(fig, path)
+
+
+def plot_curve_analysis(curve, result, path, title: str = "") -> Path:
+    """One indentation curve with its Oliver-Pharr fits: the unloading power law over its
+    window, the tangent of slope S at h_max, and h_c, h_f marked."""
+    from filmscale.continuum.curves import SEGMENT_NAMES
+
+    c = curve.finite()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2))
+    colours = ("tab:blue", "tab:gray", "tab:green")
+    for label, start, stop in c.runs():
+        ax.plot(c.h[start:stop] * 1e9, c.P[start:stop] * 1e3, ".", ms=2.5, color=colours[label],
+                label=SEGMENT_NAMES[label])
+    if result.ok:
+        h = np.linspace(result.h_f, result.h_max, 200)
+        ax.plot(h * 1e9, result.B * (h - result.h_f)**result.m * 1e3, "-", color="tab:red",
+                lw=1.2, label=f"P = B (h - h_f)^m, m = {result.m:.2f}")
+        hs = np.array([result.h_max - result.P_max / result.S, result.h_max])
+        ax.plot(hs * 1e9, (result.P_max - result.S * (result.h_max - hs)) * 1e3, "--",
+                color="k", lw=1, label=f"S = {result.S:.4g} N/m")
+        for depth, name in ((result.h_c, "h_c"), (result.h_f, "h_f")):
+            ax.axvline(depth * 1e9, color="0.6", lw=0.8, ls=":")
+            ax.annotate(name, (depth * 1e9, 0), textcoords="offset points", xytext=(2, 4),
+                        fontsize=8, color="0.3")
+        text = (f"E_r = {result.E_r / 1e9:.4g} GPa\nH = {result.H / 1e9:.4g} GPa\n"
+                f"h_c = {result.h_c * 1e9:.4g} nm")
+    else:
+        text = f"not analysed:\n{result.message}"
+    if result.flags:
+        text += "\nflags: " + ", ".join(result.flag_codes)
+    ax.text(0.03, 0.97, text, transform=ax.transAxes, va="top", fontsize=8,
+            bbox={"facecolor": "white", "alpha": 0.8, "lw": 0})
+    ax.set_xlabel("depth h (nm)")
+    ax.set_ylabel("load P (mN)")
+    ax.set_ylim(bottom=min(0.0, float(np.min(c.P)) * 1e3))
+    ax.legend(fontsize=7, loc="lower right")
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_property_profile(profile, path, nix_gao=None, fit=None, indenter_compliance=0.0,
+                          title: str = "") -> Path:
+    """E_r and H against contact depth: every indent, group means with their standard
+    deviation, layer bands, the piecewise fit (a `TableProfile`, E_r recomputed with the
+    indenter compliance, 1/Pa) and the Nix-Gao curve when given."""
+    fig, axes = plt.subplots(1, 2, figsize=(9.5, 4.0), sharex=True)
+    edges = [0.0, *profile.interfaces, float(np.max(profile.h_c)) * 1.05]
+    for ax, key, name in ((axes[0], "E_r", "reduced modulus E_r (GPa)"),
+                          (axes[1], "H", "hardness H (GPa)")):
+        for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
+            if hi > lo:
+                ax.axvspan(lo * 1e9, hi * 1e9, color=("0.93", "0.85")[k % 2], lw=0)
+                ax.text((lo + hi) / 2 * 1e9, 1.0, profile.layer_names[k], ha="center",
+                        va="bottom", fontsize=7, transform=ax.get_xaxis_transform())
+        ax.plot(profile.h_c * 1e9, getattr(profile, key) / 1e9, ".", ms=3, color="0.45",
+                label="indents")
+        ax.errorbar(profile.group_h_c * 1e9, getattr(profile, f"group_{key}") / 1e9,
+                    yerr=getattr(profile, f"group_{key}_std") / 1e9, fmt="o", ms=4,
+                    color="tab:blue", capsize=2, label="mean +- std")
+        ax.set_xlabel("contact depth h_c (nm)")
+        ax.set_ylabel(name)
+    if fit is not None:
+        E_r = 1.0 / (1.0 / fit.plane_strain_modulus + indenter_compliance)
+        axes[0].plot(fit.depths * 1e9, E_r / 1e9, "-", color="tab:orange", label="piecewise fit")
+        axes[1].plot(fit.depths * 1e9, fit.hardness / 1e9, "-", color="tab:orange",
+                     label="piecewise fit")
+        axes[0].legend(fontsize=7)
+    if nix_gao is not None:
+        h = np.linspace(profile.h_c.min(), profile.h_c.max(), 200)
+        axes[1].plot(h * 1e9, nix_gao.hardness(h) / 1e9, "-", color="tab:red",
+                     label=f"Nix-Gao H0 = {nix_gao.H0 / 1e9:.3g} GPa, "
+                           f"h* = {nix_gao.h_star * 1e9:.3g} nm")
+    axes[1].legend(fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return _save(fig, path)

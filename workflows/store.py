@@ -99,3 +99,59 @@ def read_impact_maps(path) -> tuple[dict[str, dict[str, np.ndarray]], dict]:
     except OSError as err:
         raise InputError(f"cannot read {path}: {err}") from None
     return out, attrs
+
+
+INDENT_RESULTS_FORMAT = "filmscale.indent_results/1"
+#: unit of each numeric field of an Oliver-Pharr result
+INDENT_UNITS = {"E_r": "Pa", "H": "Pa", "h_c": "m", "S": "N/m", "A_c": "m^2", "P_max": "N",
+                "h_max": "m", "h_f": "m", "m": "1", "B": "N/m^m", "epsilon": "1", "beta": "1",
+                "E": "Pa", "W_t": "J", "W_e": "J", "W_p": "J", "We_Wt": "1", "fit_rms": "1",
+                "n_fit": "1", "status": "1"}
+
+
+def write_indentation_results(path, records: list[dict], provenance: dict[str, str],
+                              options: dict, profile: dict | None = None) -> Path:
+    """Oliver-Pharr results of many curves: one dataset per field (one row per curve, SI),
+    the curve names and source files, the flags as JSON text, and the property-depth
+    profile when one was computed."""
+    with atomic_h5(path) as f:
+        f.attrs["format"] = INDENT_RESULTS_FORMAT
+        for key, value in provenance.items():
+            f.attrs[key] = value
+        f.attrs["options"] = json.dumps(options)
+        text = h5py.string_dtype()
+        f.create_dataset("name", data=[r["name"] for r in records], dtype=text)
+        f.create_dataset("file", data=[r["file"] for r in records], dtype=text)
+        f.create_dataset("flags", data=[json.dumps(r.get("flags", [])) for r in records],
+                         dtype=text)
+        f.create_dataset("message", data=[r.get("message", "") for r in records], dtype=text)
+        for key, unit in INDENT_UNITS.items():
+            values = np.array([np.nan if r.get(key) is None else r[key] for r in records],
+                              dtype=float)
+            f.create_dataset(key, data=values).attrs["units"] = unit
+        if profile is not None:
+            g = f.create_group("profile")
+            g.attrs["layer_names"] = json.dumps(profile["layer_names"])
+            g.create_dataset("interfaces", data=np.asarray(profile["interfaces"], dtype=float)
+                             ).attrs["units"] = "m"
+            for key, unit in (("h_c", "m"), ("E_r", "Pa"), ("H", "Pa"), ("E_r_std", "Pa"),
+                              ("H_std", "Pa"), ("n", "1")):
+                g.create_dataset(f"group_{key}", data=profile["groups"][key]).attrs["units"] = unit
+            g.attrs["layers"] = json.dumps(profile["layers"])
+            if profile.get("nix_gao"):
+                g.attrs["nix_gao"] = json.dumps(profile["nix_gao"])
+    return Path(path)
+
+
+def read_indentation_results(path) -> tuple[dict[str, np.ndarray], dict]:
+    """Datasets and attributes of a file written by `write_indentation_results`."""
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("format") != INDENT_RESULTS_FORMAT:
+                raise InputError(f"{path} is not a filmscale indentation result file")
+            data = {k: f[k][()] for k in f if isinstance(f[k], h5py.Dataset)}
+            for k in ("name", "file", "flags", "message"):
+                data[k] = [v.decode() if isinstance(v, bytes) else v for v in data[k]]
+            return data, dict(f.attrs)
+    except OSError as err:
+        raise InputError(f"cannot read {path}: {err}") from None

@@ -1,0 +1,103 @@
+"""`filmscale indent analyze`: JSON keys, batch folders, flags, HDF5, profile file, errors."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from filmscale.continuum.curves import synthetic_curve
+from filmscale.continuum.io import read_table
+from filmscale.continuum.tips import berkovich
+from filmscale.workflows.cli import main
+from filmscale.workflows.store import read_indentation_results
+
+FILMSCALE = Path(sys.executable).with_name("filmscale")
+KEYS = ("E_r", "H", "h_c", "S", "P_max", "h_max", "A_c", "flags")
+DEPTHS = (10e-9, 20e-9, 40e-9, 80e-9)
+
+
+def truth(h_c):
+    return np.interp(h_c, [0, 30e-9, 100e-9], [180e9, 140e9, 110e9]), \
+        np.interp(h_c, [0, 30e-9, 100e-9], [18e9, 12e9, 9e9])
+
+
+def write_curve(path, curve):
+    np.savetxt(path, np.column_stack([curve.h * 1e9, curve.P * 1e6, curve.t]), delimiter=", ",
+               header="h [nm], P [uN], t [s]", comments="")
+
+
+@pytest.fixture
+def folder(tmp_path):
+    d = tmp_path / "indents"
+    d.mkdir()
+    for k, h_c in enumerate(np.repeat(DEPTHS, 2)):
+        E_r, H = truth(h_c)
+        write_curve(d / f"i{k}.csv", synthetic_curve(E_r, H, berkovich(), h_c=h_c, m=1.4,
+                                                     noise=0.001, seed=k))
+    return d
+
+
+def test_json_lines_recover_properties(folder, capsys):
+    assert main(["indent", "analyze", str(folder), "--tip", "berkovich", "--json"]) == 0
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert len(rows) == 8
+    for row in rows:
+        assert all(k in row for k in KEYS)
+        E_r, H = truth(row["h_c"])
+        # 0.1 % load noise: well inside the 1 % of the synthetic-curve test
+        assert row["E_r"] == pytest.approx(E_r, rel=0.01) and row["H"] == pytest.approx(H, rel=0.01)
+        assert row["flags"] == []
+
+
+def test_outputs_profile_and_plots(folder, tmp_path, capsys):
+    out, prof, plots = tmp_path / "r.h5", tmp_path / "p.csv", tmp_path / "plots"
+    code = main(["indent", "analyze", str(folder), "--tip", "berkovich", "--layers", "30nm",
+                 "--layer-names", "DLC,CoCrPt", "--out", str(out), "--profile", str(prof),
+                 "--plot", str(plots), "--workers", "1"])
+    assert code == 0
+    text = capsys.readouterr().out
+    assert "DLC: 4 indents" in text and "CoCrPt: 4 indents" in text
+    data, attrs = read_indentation_results(out)
+    assert len(data["name"]) == 8 and data["E_r"].shape == (8,)
+    assert "filmscale_version" in attrs
+    table = read_table(prof, required=("h_c", "E_r", "H"))      # what a scene reads
+    np.testing.assert_allclose(np.sort(table["h_c"]), np.sort(data["h_c"]), rtol=1e-9)
+    assert (plots / "profile.png").stat().st_size > 0 and len(list(plots.glob("i*.png"))) == 8
+
+
+def test_flags_and_unreadable_files(tmp_path, capsys):
+    c = synthetic_curve(150e9, 15e9, berkovich(), h_c=50e-9)
+    write_curve(tmp_path / "load_only.csv", type(c)(c.h[:240], c.P[:240], c.t[:240]))
+    write_curve(tmp_path / "good.csv", c)
+    (tmp_path / "broken.csv").write_text("h [nm], P [uN]\n1, 2, 3\n")
+    code = main(["indent", "analyze", str(tmp_path / "load_only.csv"), str(tmp_path / "good.csv"),
+                 str(tmp_path / "broken.csv"), "--tip", "berkovich", "--json"])
+    captured = capsys.readouterr()
+    rows = {r["name"]: r for r in map(json.loads, captured.out.splitlines())}
+    assert code == 2            # an unreadable file is bad input, after the rest was analysed
+    assert "no_unloading" in rows["load_only"]["flags"] and rows["load_only"]["E_r"] is None
+    assert rows["good"]["E_r"] == pytest.approx(150e9, rel=1e-6)
+    assert rows["broken"]["flags"] == ["unreadable"] and "broken" in captured.err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--tip", "vickers"], "tip = 'vickers' is not one of"),
+    (["--tip", "cone:120"], "cone half_angle = 120"),
+    (["--tip", "berkovich", "--window", "0.5:0.3"], "--window end = 0.3"),
+    (["--tip", "berkovich", "--beta", "hay"], "needs the sample Poisson ratio --nu"),
+    (["--tip", "berkovich", "--out", "results.txt"], "must end in one of .h5"),
+])
+def test_bad_options_exit_2_without_traceback(folder, argv, message):
+    run = subprocess.run([str(FILMSCALE), "indent", "analyze", str(folder), *argv],
+                         capture_output=True, text=True, stdin=subprocess.DEVNULL)
+    assert run.returncode == 2
+    assert message in run.stderr and "Traceback" not in run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1
+
+
+def test_missing_path_is_an_input_error(tmp_path, capsys):
+    assert main(["indent", "analyze", str(tmp_path / "absent.csv"), "--tip", "berkovich"]) == 2
+    assert "does not exist" in capsys.readouterr().err

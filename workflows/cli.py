@@ -314,6 +314,28 @@ def cmd_indent_analyze(args) -> int:
     return 0 if analysed else 1
 
 
+def cmd_indent_reverse(args) -> int:
+    from filmscale.continuum.reverse import dao_reverse, dual_reverse
+
+    common = dict(tip=args.tip, nu=args.nu, E_i=args.E_i, nu_i=args.nu_i, C_std=args.C_std,
+                  dPdh_std=args.dPdh_std, WpWt_std=args.WpWt_std, h_m_std=args.hm_std,
+                  method=args.method, samples=args.samples, seed=args.seed)
+    if (args.C2 is None) != (args.tip2 is None):
+        raise InputError("the dual-indenter analysis needs both --C2 and --tip2")
+    if args.C2 is not None:
+        result = dual_reverse(args.C, args.dPdh, args.WpWt, args.hm, args.C2, tip2=args.tip2,
+                              C2_std=args.C2_std, **common)
+    else:
+        result = dao_reverse(args.C, args.dPdh, args.WpWt, args.hm, **common)
+    if args.json:
+        print(_json(result.to_dict()))
+    else:
+        print(result.summary())
+    for warning in result.warnings:
+        print(f"filmscale: warning: {warning}", file=sys.stderr)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="filmscale",
@@ -386,6 +408,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="DIR", help="one plot per curve and the depth profile")
     p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
     p.set_defaults(func=cmd_indent_analyze)
+
+    p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",
+                        description="Reverse analysis of sharp indentation (Dao et al. 2001): "
+                                    "from the loading curvature C, the unloading slope dP/dh, "
+                                    "W_p/W_t and the maximum depth h_m to E*, the 3.3 %% "
+                                    "representative stress sigma_r, n and sigma_y, each with "
+                                    "its standard deviation (Monte Carlo over the inputs' "
+                                    "standard deviations). With --C2/--tip2: dual indenter "
+                                    "(Chollacoop, Dao & Suresh 2003). SI units.")
+    p.add_argument("--C", type=float, required=True, help="loading curvature P/h^2, Pa")
+    p.add_argument("--dPdh", type=float, required=True, help="initial unloading slope, N/m")
+    p.add_argument("--WpWt", type=float, required=True, help="plastic over total work")
+    p.add_argument("--hm", type=float, required=True, help="maximum depth h_m, m")
+    p.add_argument("--tip", default="berkovich", help="berkovich (default) or cone:70.3")
+    for name, unit in (("C", "Pa"), ("dPdh", "N/m"), ("WpWt", "-"), ("hm", "m")):
+        p.add_argument(f"--{name}-std", type=float, default=0.0, dest=f"{name}_std",
+                       help=f"standard deviation of --{name}, {unit} (default 0)")
+    p.add_argument("--C2", type=float, help="second tip's loading curvature, Pa (dual indenter)")
+    p.add_argument("--C2-std", type=float, default=0.0, dest="C2_std",
+                   help="standard deviation of --C2, Pa")
+    p.add_argument("--tip2", help="second tip, cone:THETA with THETA in 50-80 deg")
+    p.add_argument("--nu", type=float, default=0.3, help="sample Poisson ratio (default 0.3)")
+    p.add_argument("--E-i", type=float, default=1100e9, dest="E_i",
+                   help="indenter modulus, Pa (default 1100e9, as Dao et al.)")
+    p.add_argument("--nu-i", type=float, default=0.07, dest="nu_i",
+                   help="indenter Poisson ratio (default 0.07)")
+    p.add_argument("--method", choices=("closed-form", "surrogate"), default="closed-form",
+                   help="Dao's closed form (default) or the surrogate trained on the FE cases")
+    p.add_argument("--samples", type=int, default=2000, help="Monte Carlo draws (default 2000)")
+    p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    p.set_defaults(func=cmd_indent_reverse)
     return parser
 
 

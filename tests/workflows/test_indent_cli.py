@@ -101,3 +101,59 @@ def test_bad_options_exit_2_without_traceback(folder, argv, message):
 def test_missing_path_is_an_input_error(tmp_path, capsys):
     assert main(["indent", "analyze", str(tmp_path / "absent.csv"), "--tip", "berkovich"]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+ORACLE = ["--C", "43.840e9", "--dPdh", "4.3354e5", "--WpWt", "0.8242", "--hm", "1e-6",
+          "--nu", "0.33"]
+
+
+def test_reverse_json_has_every_value_with_its_std(capsys):
+    assert main(["indent", "reverse", *ORACLE, "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)
+    for key in ("E_star", "sigma_r", "n", "sigma_y"):
+        assert key in row and f"{key}_std" in row
+    # physics.md round-trip oracle (inputs given to 5 digits): E* = 73.440 GPa,
+    # sigma_0.033 = 0.6173 GPa, n = 0.122, sigma_Y = 0.5 GPa, E = 70.1 GPa
+    assert row["E_star"] == pytest.approx(73.440e9, rel=1e-4)
+    assert row["sigma_r"] == pytest.approx(0.6173e9, rel=2e-4)
+    assert row["n"] == pytest.approx(0.122, abs=2e-3)
+    assert row["sigma_y"] == pytest.approx(0.5e9, rel=0.01)
+    assert row["E"] == pytest.approx(70.1e9, rel=1e-3)
+    assert row["E_star_std"] == 0.0
+
+
+def test_reverse_uncertainty_and_dual(capsys):
+    assert main(["indent", "reverse", *ORACLE, "--C-std", "1e9", "--dPdh-std", "4e3",
+                 "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)
+    assert row["E_star_std"] > 0 and row["sigma_r_std"] > 0
+    assert main(["indent", "reverse", *ORACLE, "--C2", "20e9"]) == 2     # --tip2 missing
+    assert "--C2 and --tip2" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--C", "-1", "--dPdh", "4e5", "--WpWt", "0.8", "--hm", "1e-6"], "C = -1 Pa"),
+    (["--C", "4e10", "--dPdh", "4e5", "--WpWt", "1.2", "--hm", "1e-6"], "WpWt = 1.2"),
+    (["--C", "4e10", "--dPdh", "4e5", "--WpWt", "0.8", "--hm", "1e-6", "--tip", "cone:30"],
+     "tip"),
+])
+def test_reverse_bad_input_exit_2(argv, message):
+    run = subprocess.run([str(FILMSCALE), "indent", "reverse", *argv], capture_output=True,
+                         text=True, stdin=subprocess.DEVNULL)
+    assert run.returncode == 2 and message in run.stderr and "Traceback" not in run.stderr
+
+
+def test_pool_and_single_process_agree(tmp_path):
+    # 64 files start the process pool; its records must equal the in-process ones
+    from filmscale.workflows.indent import AnalysisOptions, analyze_files
+    paths = []
+    for k in range(64):
+        p = tmp_path / f"c{k:02d}.csv"
+        write_curve(p, synthetic_curve(100e9 + 1e9 * k, 10e9, berkovich(), h_c=50e-9, m=1.4,
+                                       noise=0.001, seed=k))
+        paths.append(p)
+    options = AnalysisOptions(tip="berkovich")
+    pooled = analyze_files(paths, options, workers=2, progress=False)
+    single = analyze_files(paths, options, workers=1, progress=False)
+    assert [r["name"] for r in pooled] == [p.stem for p in paths]
+    assert [r["E_r"] for r in pooled] == [r["E_r"] for r in single]

@@ -410,6 +410,10 @@ def _fmt_value(v, fmt=".6g"):
     return "nan" if v is None or not np.isfinite(v) else format(v, fmt)
 
 
+def _summary_row(label, value, std, unit):
+    return f"  {label:<12} {_fmt_value(value)} +- {_fmt_value(std, '.3g')} {unit}".rstrip()
+
+
 def _plain(value):
     """JSON-able copy: floats (None for NaN), lists for arrays and tuples, dicts for results."""
     if is_dataclass(value):
@@ -739,15 +743,13 @@ class ReverseResult:
         return _plain(self)
 
     def summary(self) -> str:
-        def row(label, v, s, unit):
-            return f"  {label:<12} {_fmt_value(v)} +- {_fmt_value(s, '.3g')} {unit}".rstrip()
         lines = [f"Sharp-indentation reverse analysis ({self.method}), tip {self.tip}"
                  + (f", {self.samples} samples" if self.samples else ""),
-                 row("E*", self.E_star, self.E_star_std, "Pa"),
-                 row("E", self.E, self.E_std, "Pa"),
-                 row(f"sigma_{self.eps_r:g}", self.sigma_r, self.sigma_r_std, "Pa"),
-                 row("n", self.n, self.n_std, ""),
-                 row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa"),
+                 _summary_row("E*", self.E_star, self.E_star_std, "Pa"),
+                 _summary_row("E", self.E, self.E_std, "Pa"),
+                 _summary_row(f"sigma_{self.eps_r:g}", self.sigma_r, self.sigma_r_std, "Pa"),
+                 _summary_row("n", self.n, self.n_std, ""),
+                 _summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa"),
                  f"  h_r/h_m      {_fmt_value(self.hr_hm, '.4f')}"]
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])
 
@@ -1000,16 +1002,14 @@ class DualResult:
         return _plain(self)
 
     def summary(self) -> str:
-        def row(label, v, s, unit):
-            return f"  {label:<12} {_fmt_value(v)} +- {_fmt_value(s, '.3g')} {unit}".rstrip()
         lines = [f"Dual-indenter reverse analysis ({self.method}), tips {self.tip} + {self.tip2}"
                  + (f", {self.samples} samples" if self.samples else ""),
-                 row("E*", self.E_star, self.E_star_std, "Pa"),
-                 row("E", self.E, self.E_std, "Pa"),
-                 row(f"sigma_{self.eps_r:.3g}", self.sigma_r, self.sigma_r_std, "Pa"),
-                 row(f"sigma_{self.eps_r2:.3g}", self.sigma_r2, self.sigma_r2_std, "Pa"),
-                 row("n", self.n, self.n_std, ""),
-                 row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa")]
+                 _summary_row("E*", self.E_star, self.E_star_std, "Pa"),
+                 _summary_row("E", self.E, self.E_std, "Pa"),
+                 _summary_row(f"sigma_{self.eps_r:.3g}", self.sigma_r, self.sigma_r_std, "Pa"),
+                 _summary_row(f"sigma_{self.eps_r2:.3g}", self.sigma_r2, self.sigma_r2_std, "Pa"),
+                 _summary_row("n", self.n, self.n_std, ""),
+                 _summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa")]
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])
 
 

@@ -398,8 +398,9 @@ def parse_length(text: str, what: str) -> float:
 
 
 def parse_tip(spec: str) -> Tip:
-    """A tip from its text: berkovich, cube-corner, cone:70.3, sphere:5um, sphero-conical:250nm:70.3,
-    flat:1um. Lengths are in m unless a unit (nm, um, mm) follows; angles in degrees."""
+    """A tip from its text: berkovich, cube-corner, cone:70.3, sphere:5um,
+    sphero-conical:250nm:70.3, flat:1um. Lengths are in m unless a unit (nm, um, mm) follows;
+    angles in degrees."""
     if isinstance(spec, Tip):
         return spec
     if not isinstance(spec, str):

@@ -57,15 +57,20 @@ def parse_header(line: str) -> list[tuple[str, float]]:
     return out
 
 
+def read_text(path, what: str) -> str:
+    """The UTF-8 text of a file; InputError naming `what` (table, scene, ...) and the file."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except OSError as err:
+        raise InputError(f"cannot read {what} {path}: {err.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{what} {path} is not UTF-8 text") from None
+
+
 def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """Columns of a text table in SI, by header name. Raises InputError naming the file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as err:
-        raise InputError(f"cannot read table {path}: {err.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"table {path} is not UTF-8 text") from None
+    text = read_text(path, "table")
     header, _, body = text.lstrip().partition("\n")
     if not header or not re.search(r"[A-Za-z_]", header):
         raise InputError(f"table {path} has no header line naming its columns")
@@ -175,10 +180,8 @@ def read_area_function(path, base=None):
 
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as err:
-        raise InputError(f"cannot read area file {path}: {err.strerror}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        data = tomllib.loads(read_text(path, "area file"))
+    except tomllib.TOMLDecodeError as err:
         raise InputError(f"area file {path} is not valid TOML: {err}") from None
     coef = data.get("C")
     if not isinstance(coef, list) or not 1 <= len(coef) <= 9 or not all(

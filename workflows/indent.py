@@ -43,7 +43,7 @@ class AnalysisOptions:
 
 
 @lru_cache(maxsize=16)
-def _tip(spec: str, area_file: str | None):
+def _tip(spec: str, area_file: str | None, _modified: int):
     tip = parse_tip(spec)
     return read_area_function(area_file, tip) if area_file else tip
 
@@ -53,7 +53,14 @@ def resolve_tip(options: AnalysisOptions, curve_indenter: str = ""):
     spec = options.tip or curve_indenter
     if not spec:
         raise InputError("the curve does not name its indenter: give --tip")
-    return _tip(spec, options.area_file)
+    modified = 0       # the cache key includes the area file's time stamp: edits are seen
+    if options.area_file:
+        try:
+            modified = os.stat(options.area_file).st_mtime_ns
+        except OSError as err:
+            raise InputError(f"cannot read area file {options.area_file}: {err.strerror}") \
+                from None
+    return _tip(spec, options.area_file, modified)
 
 
 def expand_inputs(paths) -> list[Path]:

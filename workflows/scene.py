@@ -19,7 +19,7 @@ from filmscale.continuum import (DIAMOND, LAW_NAMES, UNLOADING_MODELS, ContactLa
 from filmscale.continuum.errors import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
                                         VELOCITY_RANGE, InputError, check_choice,
                                         check_positive, check_real)
-from filmscale.continuum.io import read_table
+from filmscale.continuum.io import read_table, read_text
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -246,10 +246,4 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
 def load_scene(path) -> Scene:
     """Read and validate a scene file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as err:
-        raise InputError(f"cannot read scene {path}: {err.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"scene {path} is not UTF-8 text") from None
-    return parse_scene(text, source=str(path), base=path.parent)
+    return parse_scene(read_text(path, "scene"), source=str(path), base=path.parent)

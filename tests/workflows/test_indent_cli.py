@@ -157,3 +157,22 @@ def test_pool_and_single_process_agree(tmp_path):
     single = analyze_files(paths, options, workers=1, progress=False)
     assert [r["name"] for r in pooled] == [p.stem for p in paths]
     assert [r["E_r"] for r in pooled] == [r["E_r"] for r in single]
+
+
+def test_area_file_in_instrument_units(folder, tmp_path, capsys):
+    from filmscale.continuum.io import read_area_function
+    from filmscale.continuum.tips import PolynomialArea
+    area = tmp_path / "area.toml"
+    area.write_text('length_unit = "nm"\nC = [24.494, 1000.0]\n')
+    # A [nm^2] = 24.494 h^2 + 1000 h [nm]  ->  C1 = 1000 nm = 1e-6 m in SI
+    tip = read_area_function(area)
+    assert tip.coefficients == (24.494, pytest.approx(1e-6, rel=1e-12))
+    assert tip.area(50e-9) == pytest.approx((24.494 * 50**2 + 1000 * 50) * 1e-18, rel=1e-12)
+    assert main(["indent", "analyze", str(folder / "i0.csv"), "--tip", "berkovich",
+                 "--area-file", str(area), "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)
+    assert row["A_c"] == pytest.approx(float(PolynomialArea((24.494, 1e-6)).area(row["h_c"])))
+    area.write_text("C = 'many'\n")
+    assert main(["indent", "analyze", str(folder), "--tip", "berkovich",
+                 "--area-file", str(area)]) == 2
+    assert "C must be a list" in capsys.readouterr().err

@@ -23,7 +23,7 @@ from scipy.optimize import least_squares, leastsq
 
 from .curves import LOAD, CurveFlag, LoadDisplacementCurve, check_curve
 from .errors import InputError, check_choice, check_positive, check_real
-from .materials import DIAMOND, ElasticPlastic
+from .materials import DIAMOND, ElasticPlastic, modulus_from_reduced
 from .tips import Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
 
 OK, FAILED = 0, 1
@@ -103,9 +103,9 @@ class OliverPharrResult:
 
 
 def sample_modulus(E_r, nu, indenter: ElasticPlastic = DIAMOND) -> float:
-    """E = (1 - nu^2) / (1/E_r - (1 - nu_i^2)/E_i), Pa; NaN when E_r is not below the indenter's."""
-    rest = 1.0 / E_r - indenter.compliance
-    return (1.0 - nu * nu) / rest if rest > 0 else math.nan
+    """E = (1 - nu^2) / (1/E_r - (1 - nu_i^2)/E_i), Pa; NaN when E_r is not below the indenter's
+    (Oliver & Pharr 1992 eq. 2)."""
+    return float(modulus_from_reduced(E_r, nu, indenter.compliance))
 
 
 def _power_law_fit(h, P, h_max, P_max):
@@ -295,15 +295,19 @@ def calibrate_frame_compliance(P_max, S) -> FrameCompliance:
 
 # ---- shallow-depth hardness (Yeo & Polycarpou 2007) ---------------------------------------
 
-def elastic_indent(results, max_plastic_fraction=0.05):
-    """Index of the largest-load indent whose unloading retraces loading (W_p/W_t below the
-    given fraction), or None: P_e, h_m,e and S_e of the Yeo-Polycarpou correction."""
-    best, best_load = None, -math.inf
-    for k, r in enumerate(results):
-        if r.ok and r.W_t > 0 and abs(r.W_p / r.W_t) < max_plastic_fraction \
-                and r.P_max > best_load:
-            best, best_load = k, r.P_max
-    return best
+def elastic_indent(P_max, W_p, W_t, max_plastic_fraction=0.05):
+    """Index of the largest-load indent whose unloading retraces loading (|W_p/W_t| below the
+    given fraction), or None: P_e, h_m,e and S_e of the Yeo-Polycarpou correction.
+
+    P_max (N), W_p and W_t (J) are arrays over the indents; NaN entries (failed analyses)
+    never qualify.
+    """
+    P_max, W_p, W_t = (np.asarray(v, dtype=float) for v in (P_max, W_p, W_t))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        elastic = (W_t > 0) & (np.abs(W_p / W_t) < max_plastic_fraction) & np.isfinite(P_max)
+    if not elastic.any():
+        return None
+    return int(np.flatnonzero(elastic)[np.argmax(P_max[elastic])])
 
 
 def shallow_depth_hardness(P_max, h_c, tip: Tip | str, *, P_e, h_me, S_e):

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .errors import MODULUS_MAX, THICKNESS_MAX, InputError, check_real
 
 
@@ -73,6 +75,18 @@ def reduced_modulus(plane_strain_modulus, counterface: ElasticPlastic | None = N
     if counterface is None:
         return plane_strain_modulus
     return 1.0 / (1.0 / plane_strain_modulus + counterface.compliance)
+
+
+def modulus_from_reduced(E_r, nu, counterface_compliance=0.0):
+    """Young's modulus E (Pa) of a body from a reduced modulus E_r (Pa, scalar or array).
+
+    E = (1 - nu^2) / (1/E_r - (1 - nu_c^2)/E_c), inverting Johnson (1985) eq. 4.22, with the
+    counterface's compliance (1 - nu_c^2)/E_c in 1/Pa (0: rigid). NaN where E_r is not below
+    what the counterface allows.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rest = 1.0 / np.asarray(E_r, dtype=float) - counterface_compliance
+        return np.where(rest > 0, (1.0 - np.asarray(nu) ** 2) / rest, np.nan)
 
 
 #: Diamond indenter, the usual nanoindentation counterface (physics.md section 9).

@@ -36,6 +36,7 @@ from scipy.spatial import Delaunay
 
 from .errors import (MODULUS_MAX, InputError, ModelRangeError, check_choice, check_positive,
                      check_real)
+from .materials import modulus_from_reduced
 
 # --- constants of physics.md section 10 -----------------------------------------------------
 
@@ -377,13 +378,6 @@ def _indenter_compliance(E_i, nu_i):
     return (1.0 - nu_i**2) / E_i
 
 
-def _sample_modulus(E_star, nu, E_i, nu_i):
-    """E from E*: E = (1 - nu^2) / (1/E* - (1 - nu_i^2)/E_i); NaN where E* is too stiff."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rest = 1.0 / np.asarray(E_star, dtype=float) - _indenter_compliance(E_i, nu_i)
-        return np.where(rest > 0, (1.0 - nu**2) / rest, np.nan)
-
-
 def yield_strength(sigma_r, E, n, eps_r):
     """sigma_Y solving sigma_r = sigma_Y (1 + E eps_r / sigma_Y)^n, Pa (arrays broadcast).
 
@@ -655,7 +649,7 @@ def _reverse_arrays(C, S, W, hm, *, tip, c_star, nu, E_i, nu_i, method, model=No
     with np.errstate(invalid="ignore", over="ignore"):
         sigma_r = E_star * np.exp(-x)
     reason[bad] = 4
-    E = _sample_modulus(E_star, nu, E_i, nu_i)
+    E = modulus_from_reduced(E_star, nu, _indenter_compliance(E_i, nu_i))
     reason[(reason == 0) & ~np.isfinite(E)] = 3
     good = reason == 0
     n = np.full(C.shape, np.nan)

@@ -170,12 +170,9 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
 def shallow_depth_correction(records: list[dict], options: AnalysisOptions) -> int | None:
     """Add ``H_shallow`` (Yeo-Polycarpou, Pa) to analysed records when one of them is purely
     elastic; returns the index of that elastic indent, or None."""
-    from types import SimpleNamespace
-
     ok = [r for r in records if r.get("status") == 0]
-    views = [SimpleNamespace(ok=True, W_t=r["W_t"] or 0.0, W_p=r["W_p"] or 0.0,
-                             P_max=r["P_max"]) for r in ok]
-    k = elastic_indent(views)
+    k = elastic_indent(*([np.nan if r[key] is None else r[key] for r in ok]
+                         for key in ("P_max", "W_p", "W_t")))
     if k is None:
         return None
     e = ok[k]

@@ -176,3 +176,21 @@ def test_area_file_in_instrument_units(folder, tmp_path, capsys):
     assert main(["indent", "analyze", str(folder), "--tip", "berkovich",
                  "--area-file", str(area)]) == 2
     assert "C must be a list" in capsys.readouterr().err
+
+
+def test_shallow_correction_uses_the_elastic_indent(folder, capsys):
+    # an elastic indent: P = K h^1.5 loaded and unloaded along one path, so W_p = 0 and
+    # h_e = h_me - 0.75 P_e / S_e = h_me / 2 (S = 1.5 P / h)
+    h = np.linspace(0, 4e-9, 200)
+    P = 2e-3 * (h / 4e-9)**1.5 * 1e-3
+    hh, PP = np.concatenate([h, h[-2::-1]]), np.concatenate([P, P[-2::-1]])
+    np.savetxt(folder / "elastic.csv", np.column_stack([hh * 1e9, PP * 1e6]), delimiter=", ",
+               header="h [nm], P [uN]", comments="")
+    assert main(["indent", "analyze", str(folder), "--tip", "berkovich", "--json",
+                 "--shallow-correction", "--no-drift"]) == 0
+    rows = {r["name"]: r for r in map(json.loads, capsys.readouterr().out.splitlines())}
+    h_e = rows["elastic"]["h_max"] - 0.75 * rows["elastic"]["P_max"] / rows["elastic"]["S"]
+    assert h_e == pytest.approx(2e-9, rel=0.01)     # the fit window sees a pure h^1.5 law
+    r = rows["i7"]
+    # Yeo-Polycarpou with A = k h^2: H_shallow = H h_c / (h_c - h_e)
+    assert r["H_shallow"] == pytest.approx(r["H"] * r["h_c"] / (r["h_c"] - h_e), rel=1e-9)

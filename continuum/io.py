@@ -8,15 +8,23 @@ comments. A column without a unit is taken as SI already.
 HDF5 curves (format ``filmscale.curve/1``): one group per curve with datasets ``h`` (m), ``P``
 (N), optional ``t`` (s) and ``segment`` (0 load, 1 hold, 2 unload), attributes ``indenter``
 and ``meta`` (JSON). `write_curve_group` fills a group of a file the caller opened (files are
-created by the workflows' atomic writers); `read_curves` reads every curve of a file.
+created atomically with `atomic_h5`); `read_curves` reads every curve of a file.
+
+Result files are written atomically (`atomic_path`, `atomic_h5`): a temporary file in the same
+folder, renamed when complete, so an interrupted write never leaves a half-written result.
 """
 
 from __future__ import annotations
 
 import io
 import json
+import os
 import re
+import tempfile
+from contextlib import contextmanager
 from pathlib import Path
+
+import h5py
 
 import numpy as np
 
@@ -34,6 +42,37 @@ UNITS = {
     "N/m": 1.0, "mN/nm": 1e6, "uN/nm": 1e3, "µN/nm": 1e3, "mN/um": 1e3, "uN/um": 1.0,
     "nm/s": 1e-9,
 }
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path`` (same suffix) that is renamed to ``path`` when
+    the block ends without error, and removed otherwise."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}",
+                               dir=path.parent)
+    os.close(fd)
+    try:
+        yield tmp
+        os.chmod(tmp, 0o666 & ~_umask())    # mkstemp makes 0600; results are meant to be shared
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+@contextmanager
+def atomic_h5(path):
+    """Yield an open h5py File that appears at ``path`` only once fully written."""
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+        yield f
+
 
 _COLUMN = re.compile(r"\s*([^\[\],\s]+)\s*(?:\[([^\]]*)\])?\s*")
 
@@ -147,7 +186,6 @@ def read_curves(path) -> dict[str, LoadDisplacementCurve]:
     path = Path(path)
     if path.suffix.lower() not in HDF5_SUFFIXES:
         return {path.stem: read_curve_text(path)}
-    import h5py     # only HDF5 readers need it
 
     out = {}
     try:

@@ -1,5 +1,12 @@
-"""filmscale.md: LAMMPS front ends (atomistic nanoindentation, SPH and peridynamics).
+"""filmscale.md: LAMMPS front ends (atomistic nanoindentation; SPH and peridynamics later).
 
-Everything that touches LAMMPS lives here and returns the continuum package's data types in SI.
-The engine layer arrives with the atomistic issue; importing this package loads nothing yet.
+Everything that touches LAMMPS lives here and returns the continuum package's data types in
+SI. Importing the package loads no LAMMPS library; `engine.load_library` does, on first use.
 """
+
+from importlib import metadata as _metadata
+
+try:
+    __version__ = _metadata.version("filmscale")
+except _metadata.PackageNotFoundError:     # a source tree without an install
+    __version__ = "unknown"

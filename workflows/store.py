@@ -5,9 +5,6 @@ write never leaves a half-written result behind."""
 from __future__ import annotations
 
 import json
-import os
-import tempfile
-from contextlib import contextmanager
 from pathlib import Path
 
 import h5py
@@ -16,39 +13,9 @@ import numpy as np
 from filmscale.continuum import ImpactMap, ImpactMaxima
 from filmscale.continuum.impact import STATUS_MESSAGES
 from filmscale.continuum.errors import InputError
+from filmscale.continuum.io import atomic_h5, atomic_path  # noqa: F401 (re-exported)
 
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-@contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path`` (same suffix) that is renamed to ``path`` when
-    the block ends without error, and removed otherwise."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}",
-                               dir=path.parent)
-    os.close(fd)
-    try:
-        yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())    # mkstemp makes 0600; results are meant to be shared
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
-@contextmanager
-def atomic_h5(path):
-    """Yield an open h5py File that appears at ``path`` only once fully written."""
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
-        yield f
 
 
 def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],

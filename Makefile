@@ -29,6 +29,7 @@ test-all: $(STAMP)
 benchmark: $(STAMP)
 	$(BIN)/python benchmarks/impact_speed_vs_error.py
 	$(BIN)/python benchmarks/indentation_speed.py
+	$(BIN)/python benchmarks/md_overhead.py
 
 clean:
 	rm -rf demo_output .pytest_cache

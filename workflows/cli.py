@@ -19,6 +19,10 @@ from filmscale.continuum import MAP_FIELDS, impact_map
 from filmscale.continuum.errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError,
                                         ModelRangeError, check_real)
 
+from filmscale.md.engine import LammpsError, LammpsUnavailable
+from filmscale.potentials import PotentialError
+
+from . import md_cli
 from .scene import MapSpec, Scene, load_scene
 from .store import atomic_path
 
@@ -440,6 +444,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.set_defaults(func=cmd_indent_reverse)
+    md_cli.add_commands(sub)
     return parser
 
 
@@ -448,9 +453,12 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except InputError as err:
+    except (InputError, PotentialError) as err:
         print(f"filmscale: error: {err}", file=sys.stderr)
         return 2
+    except (LammpsError, LammpsUnavailable) as err:
+        print(f"filmscale: {err}", file=sys.stderr)
+        return 1
     except ModelRangeError as err:
         print(f"filmscale: {err}", file=sys.stderr)
         return 1

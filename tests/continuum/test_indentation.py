@@ -181,3 +181,39 @@ def test_nix_gao_fit():
     assert abs(noisy.h_star - 300e-9) < 3 * noisy.h_star_std
     with pytest.raises(InputError, match="at least 3"):
         nix_gao_fit([1e-7, 2e-7], [1e9, 1e9])
+
+
+# ---- load drops under displacement control (MD pop-ins) ----------------------------------------
+
+def _hertz_with_drop(noise, seed=3):
+    """Hertz loading P = K h^1.5 that loses 30 % of its load at h = 0.5 nm and then rises
+    along a softer branch: the shape of an MD pop-in under displacement control."""
+    from filmscale.continuum.curves import LoadDisplacementCurve
+    rng = np.random.default_rng(seed)
+    h = np.linspace(-0.1e-9, 0.8e-9, 400)
+    K = 40e-9 / (0.5e-9)**1.5
+    P = np.where(h < 0.5e-9, K * np.clip(h, 0, None)**1.5,
+                 0.7 * 40e-9 + 30e-9 * (h - 0.5e-9) / 0.3e-9)
+    P = P + noise * rng.standard_normal(h.size) * (h > 0)
+    return LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)), h, P
+
+
+def test_load_drop_found_at_the_peak_with_its_size():
+    from filmscale.continuum import detect_load_drop
+    curve, h, P = _hertz_with_drop(noise=0.2e-9)
+    drop = detect_load_drop(curve)
+    # the last point before the fall is within one depth step (2.3 pm) of 0.5 nm; the drop
+    # is 30 % of 40 nN to within a few noise sigmas (0.2 nN each)
+    assert drop.h == pytest.approx(0.5e-9, abs=2.5e-12)
+    assert drop.P == pytest.approx(40e-9, abs=1e-9)
+    assert drop.drop == pytest.approx(12e-9, abs=1.5e-9)
+    assert drop.significance > 20
+
+
+def test_no_load_drop_on_noisy_monotonic_loading():
+    from filmscale.continuum import detect_load_drop
+    from filmscale.continuum.curves import LoadDisplacementCurve
+    rng = np.random.default_rng(5)
+    h = np.linspace(0, 1e-9, 400)
+    P = 50e-9 * (h / 1e-9)**1.5 + 0.1e-9 * rng.standard_normal(h.size)
+    assert detect_load_drop(LoadDisplacementCurve(h, P, segment=np.zeros(400, int))) is None

@@ -1,0 +1,434 @@
+"""Atomistic nanoindentation: the run specification and the LAMMPS input it becomes.
+
+The protocol is displacement controlled. After an energy minimisation and an equilibration
+at temperature T, the indenter starts ``gap`` above the undeformed surface, moves down at
+constant ``speed`` to ``depth``, holds, and moves back up to where it started. Its height is
+one closed-form function of the absolute timestep,
+
+    z_tip(step) = z_surface + gap - dz * (clamp(step - s_load, 0, n_down)
+                                          - clamp(step - s_unload, 0, n_up)),
+
+so a run resumed from a restart file re-creates ``fix indent`` (which keeps nothing in restart
+files) at exactly the position it had. ``z_surface`` is the mean height of the top atomic
+layer after equilibration: the zero of depth, h = z_surface - z_tip.
+
+Everything here is plain Python that writes text; nothing launches LAMMPS (see `md.run`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
+
+from filmscale.continuum.errors import InputError, check_positive, check_real
+from filmscale.md.structures import Slab, SlabSpec
+from filmscale.md.units import from_si, to_si
+from filmscale.potentials import Potential
+
+#: fix indent force constant, 10 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
+#: sqrt(F/K) = 0.32 A inside the nominal sphere (lammps.md measured protocols use it).
+DEFAULT_K = float(to_si(10.0, "indent_constant"))
+SEED_MAX = 900_000_000       #: LAMMPS random seeds are integers in [1, 900000000]
+
+
+def derive_seeds(master: int, names: tuple[str, ...], part: int = 0) -> dict[str, int]:
+    """LAMMPS seeds for ``names`` from one master seed; ``part`` > 0 gives the fresh streams
+    of a resumed run."""
+    states = np.random.SeedSequence(master, spawn_key=(part,)).generate_state(len(names))
+    return {name: int(s % (SEED_MAX - 1)) + 1 for name, s in zip(names, states)}
+
+
+@dataclass(frozen=True)
+class SphereIndenter:
+    """A rigid sphere of ``radius`` (m) acting through ``fix indent`` with the repulsion
+    F(r) = -K (r - R)^2 for r < R; ``K`` in N/m^2 (default 10 eV/A^3 = 1.6e12 N/m^2)."""
+
+    radius: float
+    K: float = DEFAULT_K
+
+    def __post_init__(self):
+        check_real("indenter.radius", self.radius, low=2e-10, high=1e-6, unit="m")
+        check_real("indenter.K", self.K, low=1e9, high=1e15, unit="N/m^2")
+
+    @property
+    def label(self) -> str:
+        return f"sphere:{self.radius:.6g}"
+
+    def footprint_radius(self, depth: float) -> float:
+        """Radius of the sphere's cross-section at the surface plane, m."""
+        R = self.radius
+        return math.sqrt(max(0.0, 2.0 * R * depth - depth**2)) if depth < R else R
+
+    def fix_command(self, x: float, y: float) -> str:
+        """``fix indent`` (metal units, lengths in A) centred on v_z_tip + R."""
+        R = from_si(self.radius, "length")
+        return (f"variable z_center equal v_z_tip+{R:.10g}\n"
+                f"fix indenter all indent {from_si(self.K, 'indent_constant'):.10g} "
+                f"sphere {x:.10g} {y:.10g} v_z_center {R:.10g} units box")
+
+
+@dataclass(frozen=True)
+class ConeIndenter:
+    """A rigid cone of ``half_angle`` (degrees; 70.3 is the Berkovich equivalent), truncated
+    at the apex to a flat of ``tip_radius`` (m; LAMMPS needs a finite lower radius), through
+    ``fix indent cone``. ``K`` as for the sphere."""
+
+    half_angle: float = 70.3
+    tip_radius: float = 2e-10
+    K: float = DEFAULT_K
+    height: float = 5e-9     #: axial length of the cone, m; must exceed depth + gap
+
+    def __post_init__(self):
+        check_real("indenter.half_angle", self.half_angle, low=10.0, high=85.0, unit="deg")
+        check_real("indenter.tip_radius", self.tip_radius, low=1e-11, high=1e-7, unit="m")
+        check_real("indenter.K", self.K, low=1e9, high=1e15, unit="N/m^2")
+        check_positive("indenter.height", self.height, "m")
+
+    @property
+    def label(self) -> str:
+        return f"cone:{self.half_angle:.6g}"
+
+    def footprint_radius(self, depth: float) -> float:
+        return self.tip_radius + max(depth, 0.0) * math.tan(math.radians(self.half_angle))
+
+    def fix_command(self, x: float, y: float) -> str:
+        r0 = from_si(self.tip_radius, "length")
+        H = from_si(self.height, "length")
+        r1 = r0 + H * math.tan(math.radians(self.half_angle))
+        return (f"variable z_top equal v_z_tip+{H:.10g}\n"
+                f"fix indenter all indent {from_si(self.K, 'indent_constant'):.10g} "
+                f"cone z {x:.10g} {y:.10g} {r0:.10g} {r1:.10g} v_z_tip v_z_top units box")
+
+
+Indenter = SphereIndenter | ConeIndenter
+
+
+@dataclass(frozen=True)
+class IndentProtocol:
+    """Displacement-controlled indentation, SI units.
+
+    depth (m) below the undeformed surface, speed (m/s) of loading and unloading, hold_time
+    (s) at depth, gap (m) between indenter and surface at the start, temperature (K),
+    timestep (s), equilibration_time (s), damping (s) of the Langevin thermostat, record_every
+    (steps between recorded points), thermo_every (steps between log lines), restart_every
+    (steps between restart files; 0 for none), dump_depths (m, loading depths at which all
+    atoms are dumped; the end of the hold and the end of the run are always dumped), seed (the
+    master seed from which every LAMMPS seed derives), minimize (relax before heating).
+    """
+
+    depth: float
+    speed: float = 50.0
+    hold_time: float = 2e-12
+    gap: float = 2e-10
+    temperature: float = 10.0
+    timestep: float = 2e-15
+    equilibration_time: float = 2e-12
+    damping: float = 1e-13
+    record_every: int = 10
+    thermo_every: int = 100
+    restart_every: int = 1000
+    dump_depths: tuple[float, ...] = ()
+    seed: int = 1
+    minimize: bool = True
+
+    def __post_init__(self):
+        object.__setattr__(self, "dump_depths", tuple(float(d) for d in self.dump_depths))
+        check_real("protocol.depth", self.depth, low=1e-11, high=1e-6, unit="m")
+        check_real("protocol.speed", self.speed, low=0.01, high=2000.0, unit="m/s")
+        check_real("protocol.hold_time", self.hold_time, low=0.0, high=1e-6, unit="s")
+        check_real("protocol.gap", self.gap, low=0.0, high=1e-8, unit="m")
+        check_real("protocol.temperature", self.temperature, low=0.0, high=1e4, unit="K")
+        check_real("protocol.timestep", self.timestep, low=1e-17, high=1e-14, unit="s")
+        check_real("protocol.equilibration_time", self.equilibration_time, low=0.0,
+                   high=1e-6, unit="s")
+        check_positive("protocol.damping", self.damping, "s")
+        for name in ("record_every", "thermo_every", "restart_every"):
+            value = getattr(self, name)
+            low = 0 if name == "restart_every" else 1
+            if isinstance(value, bool) or not isinstance(value, int) or not \
+                    low <= value <= 10**9:
+                raise InputError(f"protocol.{name} = {value!r} must be an integer in "
+                                 f"[{low}, 1e9]")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or \
+                not 0 <= self.seed < 2**63:
+            raise InputError(f"protocol.seed = {self.seed!r} must be an integer in [0, 2^63)")
+        for d in self.dump_depths:
+            check_real("protocol.dump_depths", d, low=0.0, high=self.depth, unit="m")
+
+    def schedule(self) -> Schedule:
+        dt = self.timestep
+        n_eq = round(self.equilibration_time / dt)
+        n_down = max(1, math.ceil((self.gap + self.depth) / (self.speed * dt)))
+        n_hold = round(self.hold_time / dt)
+        return Schedule(n_eq, n_down, n_hold, n_down, (self.gap + self.depth) / n_down)
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """The protocol in timesteps: equilibration, descent, hold and ascent lengths, and the
+    indenter displacement per step dz (m)."""
+
+    n_equilibrate: int
+    n_down: int
+    n_hold: int
+    n_up: int
+    dz: float
+
+    @property
+    def s_load(self) -> int:
+        return self.n_equilibrate
+
+    @property
+    def s_hold(self) -> int:
+        return self.s_load + self.n_down
+
+    @property
+    def s_unload(self) -> int:
+        return self.s_hold + self.n_hold
+
+    @property
+    def s_end(self) -> int:
+        return self.s_unload + self.n_up
+
+    def tip_height(self, step, z_surface: float, gap: float):
+        """Indenter apex height at ``step`` (m), as the LAMMPS formula computes it."""
+        step = np.asarray(step, float)
+        down = np.clip(step - self.s_load, 0, self.n_down)
+        up = np.clip(step - self.s_unload, 0, self.n_up)
+        return z_surface + gap - self.dz * (down - up)
+
+    def segment(self, step) -> np.ndarray:
+        """0 load (approach and loading), 1 hold, 2 unload, per step."""
+        step = np.asarray(step)
+        return np.where(step < self.s_hold, 0, np.where(step < self.s_unload, 1, 2))
+
+
+@dataclass(frozen=True)
+class IndentSpec:
+    """Everything that defines an indentation run: the name, the interatomic potential,
+    the slab, the indenter and the protocol. Validated on creation, before LAMMPS starts."""
+
+    name: str
+    potential: Potential
+    slab: SlabSpec
+    indenter: Indenter
+    protocol: IndentProtocol
+    slab_built: Slab | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        if not self.name or any(c in self.name for c in "/\\ \t\n"):
+            raise InputError(f"name = {self.name!r} must be a non-empty word (no spaces or "
+                             "slashes)")
+        self.potential.pair_commands(self.slab.elements)   # unknown elements fail here
+        if self.slab_built is None:
+            from filmscale.md.structures import build_slab
+            object.__setattr__(self, "slab_built", build_slab(self.slab))
+        slab = self.slab_built
+        p = self.protocol
+        footprint = 2.0 * self.indenter.footprint_radius(p.depth)
+        width = min(slab.box[:2])
+        if footprint >= width:
+            raise InputError(
+                f"indenter footprint at depth {p.depth:.4g} m is {footprint:.4g} m wide, not "
+                f"less than the box width {width:.4g} m: enlarge slab.lateral_size or reduce "
+                "the indenter radius or depth")
+        mobile = slab.z_surface - slab.z_thermostat
+        if p.depth >= mobile:
+            raise InputError(
+                f"protocol.depth = {p.depth:.4g} m reaches below the mobile atoms "
+                f"({mobile:.4g} m of the slab above the thermostatted layer): thicken the "
+                "substrate or indent less deep")
+        if isinstance(self.indenter, ConeIndenter) and \
+                self.indenter.height <= p.depth + p.gap:
+            raise InputError(f"indenter.height = {self.indenter.height:.4g} m must exceed "
+                             f"depth + gap = {p.depth + p.gap:.4g} m")
+
+    @property
+    def type_elements(self) -> tuple[str, ...]:
+        """Element of LAMMPS atom types 1, 2, ... in the data file."""
+        return self.slab.elements
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "potential": self.potential.to_dict(),
+                "slab": asdict(self.slab), "indenter": {"kind": type(self.indenter).__name__,
+                                                         **asdict(self.indenter)},
+                "protocol": asdict(self.protocol)}
+
+    def with_protocol(self, **changes) -> IndentSpec:
+        return replace(self, protocol=replace(self.protocol, **changes))
+
+
+# ---- the LAMMPS input -------------------------------------------------------------------------
+
+DATA_FILE = "slab.data"
+SURFACE_FILE = "surface_z.txt"
+RECORD_COLUMNS = ("step", "time", "z_tip", "depth", "load", "temp")
+
+
+def _num(x: float) -> str:
+    return f"{x:.12g}"
+
+
+def _setup_lines(spec: IndentSpec) -> list[str]:
+    """Potential, neighbour lists, thermo and timestep: shared by fresh and resumed inputs."""
+    p = spec.protocol
+    return [
+        *spec.potential.pair_commands(spec.type_elements),
+        "neighbor 2.0 bin",
+        "neigh_modify delay 0 every 1 check yes",
+        f"timestep {_num(from_si(p.timestep, 'time'))}",
+    ]
+
+
+def _clamp(u: str, n: int) -> str:
+    """clamp(u, 0, n) as a LAMMPS formula: (|u| - |u - n| + n) / 2 (LAMMPS's min and max
+    apply to computes and fixes, not to numbers)."""
+    return f"0.5*(abs({u})-abs({u}-{n})+{n})"
+
+
+def _integration_lines(spec: IndentSpec, seed: int) -> list[str]:
+    """Fixed bottom, Langevin layer above it, NVE for all mobile atoms (restart files keep
+    none of these fixes)."""
+    p = spec.protocol
+    return [
+        "# ---- integration: fixed bottom, Langevin layer above it, NVE for all mobile atoms",
+        "fix freeze fixed setforce 0.0 0.0 0.0",
+        "fix integrate mobile nve",
+        f"fix thermostat thermostat langevin {_num(p.temperature)} {_num(p.temperature)} "
+        f"{_num(from_si(p.damping, 'time'))} {seed} zero yes",
+        "compute mobile_temp mobile temp",
+        "thermo_style custom step time temp c_mobile_temp pe",
+        "thermo_modify flush yes",
+        f"thermo {spec.protocol.thermo_every}",
+    ]
+
+
+def _indenter_lines(spec: IndentSpec, z_surface: str, record: str) -> list[str]:
+    """The indenter, its record file and the thermo output that shows it."""
+    p, slab = spec.protocol, spec.slab_built
+    s = p.schedule()
+    lx, ly = (from_si(v, "length") for v in slab.box[:2])
+    return [
+        "# ---- the indenter: its apex height is a function of the absolute timestep",
+        f"variable z_surface equal {z_surface}",
+        f"variable z_tip equal v_z_surface+{_num(from_si(p.gap, 'length'))}"
+        f"-{_num(from_si(s.dz, 'length'))}*"
+        f"({_clamp(f'step-{s.s_load}', s.n_down)}-{_clamp(f'step-{s.s_unload}', s.n_up)})",
+        spec.indenter.fix_command(lx / 2.0, ly / 2.0),
+        "variable depth equal v_z_surface-v_z_tip",
+        "variable load equal f_indenter[3]",
+        "variable temp_mobile equal c_mobile_temp",
+        f'fix record all print {p.record_every} "$(step) $(time:%.10g) $(v_z_tip:%.12g) '
+        f'$(v_depth:%.12g) $(v_load:%.12g) $(v_temp_mobile:%.6g)" file {record} '
+        f'screen no title "# {" ".join(RECORD_COLUMNS)}"',
+        "thermo_style custom step time temp c_mobile_temp pe v_depth v_load",
+        "thermo_modify flush yes",
+    ]
+
+
+def _segment_lines(spec: IndentSpec, after_step: int) -> list[str]:
+    """``run N upto`` for every phase end and dump step beyond ``after_step``."""
+    p = spec.protocol
+    s = p.schedule()
+    dump_steps = {s.s_load + round((p.gap + d) / s.dz): f"depth {d:.4g} m"
+                  for d in p.dump_depths}
+    dump_steps[s.s_unload] = "end of hold"
+    dump_steps[s.s_end] = "end of unloading"
+    phases = {s.s_hold: "loading done", s.s_unload: "hold done", s.s_end: "unloading done"}
+    lines = []
+    for step in sorted(set(dump_steps) | set(phases)):
+        if step <= after_step:
+            continue
+        lines.append(f"run {step} upto    # {phases.get(step, dump_steps.get(step))}")
+        if step in dump_steps:
+            lines.append(f"write_dump all custom dumps/indent.{step:09d}.lammpstrj "
+                         "id type x y z c_pe_atom modify sort id")
+    return lines
+
+
+def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
+                      version: str = "") -> str:
+    """The complete LAMMPS input of a fresh run (replayable with ``lmp -in`` in the run
+    directory that holds the data file)."""
+    p, slab = spec.protocol, spec.slab_built
+    s = p.schedule()
+    seeds = derive_seeds(p.seed, ("velocity", "langevin"))
+    top = from_si(slab.z_surface - 0.5 * slab.surface_layer_gap, "length")
+    lines = [
+        f"# filmscale {version} atomistic nanoindentation: {spec.name}".replace("  ", " "),
+        f"# {slab.n_atoms} atoms; {s.s_end} steps; master seed {p.seed}, derived seeds "
+        f"velocity {seeds['velocity']}, langevin {seeds['langevin']}",
+        "# replay: lmp -in in.indent  (in this directory)",
+        "units metal",
+        "atom_style atomic",
+        "boundary p p m",
+        "processors * * 1    # split laterally: along z the ranks would share vacuum",
+        f"read_data {DATA_FILE}",
+        *_setup_lines(spec),
+        "",
+        "# ---- regions (A): rigid bottom, thermostatted layer, mobile atoms, top atomic layer",
+        f"region fixed block INF INF INF INF INF {_num(from_si(slab.z_fixed, 'length'))} "
+        "units box",
+        f"region thermostat block INF INF INF INF {_num(from_si(slab.z_fixed, 'length'))} "
+        f"{_num(from_si(slab.z_thermostat, 'length'))} units box",
+        f"region surface block INF INF INF INF {_num(top)} INF units box",
+        "group fixed region fixed",
+        "group thermostat region thermostat",
+        "group mobile subtract all fixed",
+        "group surface region surface",
+        "compute pe_atom all pe/atom",
+        "",
+    ]
+    if p.minimize:
+        lines += ["# ---- relax the as-built structure (surface and interface)",
+                  "fix freeze_min fixed setforce 0.0 0.0 0.0",
+                  "minimize 0 1e-6 2000 20000",
+                  "unfix freeze_min",
+                  "reset_timestep 0", ""]
+    lines += [f"velocity mobile create {_num(2.0 * p.temperature)} {seeds['velocity']} "
+              "mom yes rot yes dist gaussian" if p.temperature > 0 else "",
+              "velocity fixed set 0.0 0.0 0.0"]
+    lines += _integration_lines(spec, seeds["langevin"])
+    lines += [
+        f"run {s.s_load}    # equilibration",
+        "",
+        "# ---- the undeformed surface (zero of depth): mean height of the top atomic layer",
+        *_indenter_lines(spec, "$(xcm(surface,z):%.12g)", record),
+        f'print "${{z_surface}}" file {SURFACE_FILE} screen no',
+        f"write_restart restart.{s.s_load}.bin",
+    ]
+    if p.restart_every:
+        lines.append(f"restart {p.restart_every} restart.*.bin")
+    lines += ["", *_segment_lines(spec, s.s_load)]
+    return "\n".join(lines) + "\n"
+
+
+def resume_input(spec: IndentSpec, *, restart_file: str, restart_step: int, z_surface: float,
+                 part: int, record: str, version: str = "") -> str:
+    """The input that continues a run from ``restart_file`` (written at ``restart_step``),
+    with the indenter and every fix re-created; ``z_surface`` in A as the run measured it;
+    ``part`` (1, 2, ...) numbers the resumption and picks fresh thermostat seeds."""
+    p = spec.protocol
+    seeds = derive_seeds(p.seed, ("langevin",), part=part)
+    lines = [
+        f"# filmscale {version} atomistic nanoindentation: {spec.name}, resumed (part "
+        f"{part}) from {restart_file} at step {restart_step}".replace("  ", " "),
+        f"# master seed {p.seed}, derived seed langevin {seeds['langevin']}",
+        f"# replay: lmp -in in.resume.{part}  (in this directory)",
+        "units metal",
+        "atom_style atomic",
+        "boundary p p m",
+        "processors * * 1",
+        f"read_restart {restart_file}",
+        *_setup_lines(spec),
+        "compute pe_atom all pe/atom",
+        "",
+        *_integration_lines(spec, seeds["langevin"]),
+        *_indenter_lines(spec, f"{z_surface:.12g}", record),
+    ]
+    if p.restart_every:
+        lines.append(f"restart {p.restart_every} restart.*.bin")
+    lines += ["", *_segment_lines(spec, restart_step)]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,90 @@
+"""The HDF5 record of an MD indentation: the curve in SI, the analysis, the potential's
+elastic constants, the inputs and the provenance, written atomically."""
+
+from __future__ import annotations
+
+import json
+import platform
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum.io import atomic_h5, read_curve_group, write_curve_group
+from filmscale.md import __version__
+from filmscale.md.analysis import IndentAnalysis
+from filmscale.md.elastic import ElasticConstants
+from filmscale.md.engine import lammps_info
+from filmscale.md.run import IndentRun
+
+RECORD_FORMAT = "filmscale.md_indent/1"
+RECORD_NAME = "indent.h5"
+
+
+def _attrs(group, values: dict):
+    for key, value in values.items():
+        if value is None:
+            continue
+        group.attrs[key] = value if isinstance(value, (int, float, str)) else json.dumps(value)
+
+
+def run_provenance(run: IndentRun, extra: dict | None = None) -> dict[str, str]:
+    """Versions (filmscale, LAMMPS and its packages, Python), potential and its checksum,
+    master and derived seeds, engine options."""
+    info = {"filmscale_version": __version__, "python": sys.version.split()[0],
+            "platform": platform.platform(), **lammps_info(),
+            "potential": run.spec.potential.name,
+            "potential_file": run.spec.potential.file,
+            "potential_sha256": run.spec.potential.sha256,
+            "potential_citation": run.spec.potential.citation,
+            "master_seed": str(run.spec.protocol.seed),
+            "derived_seeds": json.dumps([p["seeds"] for p in run.parts]),
+            "engine": json.dumps(run.engine)}
+    info.update({k: str(v) for k, v in (extra or {}).items()})
+    return info
+
+
+def write_record(run: IndentRun, analysis: IndentAnalysis, elastic: ElasticConstants | None,
+                 path: Path | str | None = None, provenance: dict | None = None) -> Path:
+    """Write ``indent.h5`` (or ``path``): groups ``curve`` (filmscale.curve/1), ``analysis``
+    (attributes in SI), ``contact``, ``elastic`` (C in Pa), ``inputs`` (every LAMMPS input as
+    run, and the spec as JSON); provenance as root attributes."""
+    path = Path(path) if path is not None else run.run_dir / RECORD_NAME
+    with atomic_h5(path) as f:
+        f.attrs["format"] = RECORD_FORMAT
+        _attrs(f, run_provenance(run, provenance))
+        f.attrs["run_dir"] = str(run.run_dir)
+        f.attrs["n_atoms"] = run.n_atoms
+        f.attrs["n_steps"] = run.n_steps
+        f.attrs["wall_time"] = run.wall_time
+        f.attrs["z_surface"] = run.z_surface
+        write_curve_group(f.create_group("curve"), run.curve)
+        f["curve/step"] = run.steps
+        a = f.create_group("analysis")
+        d = analysis.to_dict()
+        op = d.pop("op")
+        _attrs(a, {k: float(v) if isinstance(v, (float, np.floating)) else v
+                   for k, v in d.items()})
+        if op is not None:
+            _attrs(a.create_group("oliver_pharr"), op)
+        if elastic is not None:
+            e = f.create_group("elastic")
+            e["C"] = elastic.C
+            e["C"].attrs["units"] = "Pa"
+            _attrs(e, {k: v for k, v in elastic.to_dict().items() if k != "C"})
+        inputs = f.create_group("inputs")
+        for name, text in run.inputs().items():
+            inputs[name] = text
+        inputs["spec.json"] = json.dumps(run.spec.to_dict(), default=str)
+        inputs.attrs["slab"] = json.dumps(run.spec.slab_built.to_dict())
+        dumps = f.create_group("dumps")
+        for step, dump in run.dumps:
+            dumps.attrs[str(step)] = str(dump)
+    return path
+
+
+def read_record_curve(path: Path | str):
+    """The load-displacement curve of a record (continuum's contract)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        return read_curve_group(f["curve"])

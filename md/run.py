@@ -1,0 +1,179 @@
+"""Running an indentation: run directory, checkpoints, resumption and the load-displacement
+curve in SI.
+
+A run directory holds the data file, the input of the fresh run (``in.indent``), one input per
+resumption (``in.resume.1``, ...), the record of each part (``indent.dat``, ``indent.1.dat``,
+...), restart files, dumps and ``state.json``, which lists the parts. Files once written are
+never rewritten: a resumption starts a new part from the newest readable restart file, and the
+curve keeps, for every step, the row of the latest part that reached it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from ase.io import write as ase_write
+
+from filmscale.continuum.curves import LoadDisplacementCurve
+from filmscale.md import __version__
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
+                                      derive_seeds, indentation_input, resume_input)
+from filmscale.md.units import to_si
+
+STATE_FILE = "state.json"
+_RESTART = re.compile(r"^restart\.(\d+)\.bin$")
+
+
+@dataclass(frozen=True)
+class IndentRun:
+    """A finished indentation run: the curve in SI and where everything else lies."""
+
+    spec: IndentSpec
+    run_dir: Path
+    curve: LoadDisplacementCurve   #: h (m) from the undeformed surface, P (N), t (s)
+    z_surface: float               #: height of the undeformed surface in the box, m
+    steps: np.ndarray              #: LAMMPS timestep of each curve point
+    parts: tuple[dict, ...]        #: one entry per fresh or resumed part, as run
+    dumps: tuple[tuple[int, Path], ...]   #: (timestep, file) of each dump
+    wall_time: float               #: seconds spent in LAMMPS over all parts
+    engine: dict = field(default_factory=dict)
+
+    @property
+    def n_atoms(self) -> int:
+        return self.spec.slab_built.n_atoms
+
+    @property
+    def n_steps(self) -> int:
+        return self.spec.protocol.schedule().s_end
+
+    def inputs(self) -> dict[str, str]:
+        """Input file name -> text, in the order they ran."""
+        return {p["input"]: (self.run_dir / p["input"]).read_text() for p in self.parts}
+
+
+def _write_json(path: Path, data: dict):
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(data, indent=2))
+    os.replace(tmp, path)
+
+
+def _restarts(run_dir: Path) -> list[tuple[int, Path]]:
+    found = [(int(m.group(1)), p) for p in run_dir.iterdir()
+             if (m := _RESTART.match(p.name))]
+    return sorted(found, reverse=True)
+
+
+def _fresh(spec: IndentSpec, run_dir: Path) -> dict:
+    ase_write(run_dir / DATA_FILE, spec.slab_built.atoms, format="lammps-data",
+              specorder=list(spec.type_elements), masses=True, units="metal",
+              atom_style="atomic")
+    (run_dir / "in.indent").write_text(indentation_input(spec, version=__version__))
+    (run_dir / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2, default=str))
+    seeds = derive_seeds(spec.protocol.seed, ("velocity", "langevin"))
+    return {"input": "in.indent", "record": "indent.dat", "start": 0, "seeds": seeds}
+
+
+def _resume_part(spec: IndentSpec, run_dir: Path, k: int, step: int, restart: Path) -> dict:
+    z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
+    name, record = f"in.resume.{k}", f"indent.{k}.dat"
+    (run_dir / name).write_text(resume_input(
+        spec, restart_file=restart.name, restart_step=step, z_surface=z_surface, part=k,
+        record=record, version=__version__))
+    return {"input": name, "record": record, "start": step, "restart": restart.name,
+            "seeds": derive_seeds(spec.protocol.seed, ("langevin",), part=k)}
+
+
+def run_indentation(spec: IndentSpec, run_dir: Path | str,
+                    engine: EngineOptions = EngineOptions(), *,
+                    progress: Callable[[int, int], None] | None = None) -> IndentRun:
+    """Run ``spec`` in ``run_dir``, or finish it there: a directory holding an interrupted
+    run of the same spec resumes from its newest readable restart file; a finished one is
+    read back without launching LAMMPS. ``progress(step, total)`` reports the timestep.
+    """
+    run_dir = Path(run_dir).resolve()
+    run_dir.mkdir(parents=True, exist_ok=True)
+    (run_dir / "dumps").mkdir(exist_ok=True)
+    state_path = run_dir / STATE_FILE
+    spec_dict = json.loads(json.dumps(spec.to_dict(), default=str))
+    state = json.loads(state_path.read_text()) if state_path.exists() else None
+    if state is not None and state.get("spec") != spec_dict:
+        raise LammpsError("the run directory holds a run of a different spec; choose another "
+                          "directory", run_dir)
+    total = spec.protocol.schedule().s_end
+    report = (lambda step: progress(step, total)) if progress is not None else None
+
+    while state is None or not state.get("finished"):
+        restarts = _restarts(run_dir) if state is not None else []
+        if state is None or not restarts or not (run_dir / SURFACE_FILE).exists():
+            state = {"spec": spec_dict, "parts": [_fresh(spec, run_dir)], "finished": False,
+                     "engine": engine.to_dict()}
+        else:
+            step, restart = restarts[0]
+            state["parts"].append(_resume_part(spec, run_dir, len(state["parts"]), step,
+                                               restart))
+        _write_json(state_path, state)
+        part = state["parts"][-1]
+        started = time.perf_counter()
+        try:
+            run_input(part["input"], run_dir, engine, log_name=f"log.{part['input']}",
+                      progress=report)
+        except LammpsError as exc:
+            if "restart" in part and "restart" in exc.message.lower():
+                # a restart file cut short by the interruption: set it aside, use the previous
+                (run_dir / part["restart"]).rename(run_dir / f"{part['restart']}.unreadable")
+                state["parts"].pop()
+                _write_json(state_path, state)
+                continue
+            raise
+        part["wall_time"] = time.perf_counter() - started
+        state["finished"] = True
+        _write_json(state_path, state)
+        for _, restart in _restarts(run_dir):    # a finished run needs no checkpoints
+            restart.unlink()
+    return read_run(spec, run_dir)
+
+
+def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
+    """The curve and files of a finished run directory (no LAMMPS)."""
+    run_dir = Path(run_dir).resolve()
+    state = json.loads((run_dir / STATE_FILE).read_text())
+    parts = state["parts"]
+    rows = []
+    for k, part in enumerate(parts):
+        columns, data = parse_table((run_dir / part["record"]).read_text())
+        if columns != RECORD_COLUMNS:
+            raise LammpsError(f"{part['record']} has columns {columns}, expected "
+                              f"{RECORD_COLUMNS}", run_dir)
+        step = data[:, 0]
+        end = parts[k + 1]["start"] if k + 1 < len(parts) else np.inf
+        rows.append(data[(step > part["start"]) & (step <= end)])
+    data = np.concatenate(rows)
+    data = data[np.argsort(data[:, 0], kind="stable")]
+    # fix print repeats a row at the first step of each ``run`` that starts on its interval
+    data = data[np.unique(data[:, 0], return_index=True)[1]]
+    schedule = spec.protocol.schedule()
+    steps = data[:, 0].astype(int)
+    col = {name: data[:, i] for i, name in enumerate(RECORD_COLUMNS)}
+    z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
+    curve = LoadDisplacementCurve(
+        h=to_si(col["depth"], "length"), P=to_si(col["load"], "force"),
+        t=to_si(col["time"], "time"), segment=schedule.segment(steps),
+        indenter=spec.indenter.label,
+        meta={"source": "filmscale.md atomistic indentation", "name": spec.name,
+              "run_dir": str(run_dir), "potential": spec.potential.name,
+              "potential_sha256": spec.potential.sha256})
+    dumps = tuple(sorted((int(p.stem.split(".")[1]), p)
+                         for p in (run_dir / "dumps").glob("indent.*.lammpstrj")))
+    return IndentRun(spec=spec, run_dir=run_dir, curve=curve,
+                     z_surface=float(to_si(z_surface, "length")), steps=steps,
+                     parts=tuple(parts), dumps=dumps,
+                     wall_time=sum(p.get("wall_time", 0.0) for p in parts),
+                     engine=state.get("engine", {}))

@@ -1,0 +1,171 @@
+"""Indentation run specs from TOML tables, and the named presets.
+
+A spec file (SI units throughout)::
+
+    name = "cu-film-on-ni"
+    [potential]
+    name = "CuNi"                 # a registry entry; or file = "...", elements = [...], ...
+    [slab]
+    orientation = "001"
+    lateral_size = 5.5e-9         # m
+    [[slab.films]]                # top film first
+    element = "Cu"                # structure and a default to the potential's own lattice
+    thickness = 2.0e-9
+    [slab.substrate]
+    element = "Ni"
+    thickness = 3.2e-9
+    [indenter]
+    shape = "sphere"              # or "cone" (half_angle in degrees, tip_radius in m)
+    radius = 1.5e-9
+    [protocol]
+    depth = 8e-10
+    speed = 100.0                 # m/s
+
+Presets: ``ci`` (the test suite's run, seconds), ``quick`` (a few-nm Cu film on Ni: a
+Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``research``
+(sizes for a study, meant for MPI on many cores).
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from pathlib import Path
+
+from filmscale.continuum.errors import InputError
+from filmscale.md.indentation import (ConeIndenter, IndentProtocol, IndentSpec,
+                                      SphereIndenter)
+from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
+from filmscale.potentials import Potential, potential_from_mapping
+
+PRESETS: dict[str, dict] = {
+    "ci": {
+        "name": "ci-cu001",
+        "potential": {"name": "Cu_mishin1"},
+        "slab": {"orientation": "001", "lateral_size": 3.7e-9, "films": [],
+                 "substrate": {"element": "Cu", "thickness": 2.2e-9}},
+        "indenter": {"shape": "sphere", "radius": 8e-10},
+        "protocol": {"depth": 4e-10, "speed": 200.0, "timestep": 4e-15,
+                     "equilibration_time": 4e-13, "hold_time": 2e-13, "record_every": 5,
+                     "restart_every": 200, "seed": 2026},
+    },
+    "quick": {
+        "name": "quick-cu-on-ni001",
+        "potential": {"name": "CuNi"},
+        "slab": {"orientation": "001", "lateral_size": 5.5e-9,
+                 "films": [{"element": "Cu", "thickness": 2.2e-9}],
+                 "substrate": {"element": "Ni", "thickness": 2.8e-9}},
+        "indenter": {"shape": "sphere", "radius": 1.5e-9},
+        "protocol": {"depth": 8e-10, "speed": 100.0, "timestep": 4e-15,
+                     "equilibration_time": 1e-12, "hold_time": 1e-12, "record_every": 10,
+                     "restart_every": 1000, "seed": 2026,
+                     "dump_depths": [2e-10, 4e-10, 6e-10]},
+    },
+    "research": {
+        "name": "research-cu-on-ni001",
+        "potential": {"name": "CuNi"},
+        "slab": {"orientation": "001", "lateral_size": 2.0e-8,
+                 "fixed_thickness": 1e-9, "thermostat_thickness": 1e-9,
+                 "films": [{"element": "Cu", "thickness": 5e-9}],
+                 "substrate": {"element": "Ni", "thickness": 1e-8}},
+        "indenter": {"shape": "sphere", "radius": 4e-9},
+        "protocol": {"depth": 2e-9, "speed": 20.0, "timestep": 2e-15,
+                     "equilibration_time": 1e-11, "hold_time": 1e-11, "record_every": 20,
+                     "thermo_every": 500, "restart_every": 10000, "seed": 2026,
+                     "dump_depths": [5e-10, 1e-9, 1.5e-9]},
+    },
+}
+
+
+def _table(where: str, value) -> dict:
+    if not isinstance(value, dict):
+        raise InputError(f"{where} must be a table, got {value!r}")
+    return value
+
+
+def _check_keys(where: str, table: dict, allowed: set[str]):
+    unknown = set(table) - allowed
+    if unknown:
+        raise InputError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; allowed: "
+                         f"{', '.join(sorted(allowed))}")
+
+
+def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
+    table = _table(where, table)
+    _check_keys(where, table, {"element", "structure", "a", "c", "thickness"})
+    for key in ("element", "thickness"):
+        if key not in table:
+            raise InputError(f"{where}.{key} is required")
+    element = table["element"]
+    hint = potential.lattice.get(element)
+    structure = table.get("structure", hint[0] if hint else None)
+    a = table.get("a", hint[1] if hint else None)
+    if structure is None or a is None:
+        raise InputError(f"{where}: give structure and a for {element!r}: potential "
+                         f"{potential.name} has no lattice for it")
+    return SlabLayer(Crystal(element, structure, a, table.get("c")), table["thickness"])
+
+
+def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
+    """An `IndentSpec` from a TOML-like mapping (see the module docstring)."""
+    data = _table("spec", data)
+    _check_keys("spec", data, {"name", "potential", "slab", "indenter", "protocol"})
+    for key in ("name", "potential", "slab", "indenter", "protocol"):
+        if key not in data:
+            raise InputError(f"spec: [{key}] is required" if key != "name" else
+                             "spec: name is required")
+    potential = potential_from_mapping(_table("potential", data["potential"]), base_dir)
+    slab = dict(_table("slab", data["slab"]))
+    films = slab.pop("films", [])
+    if not isinstance(films, list):
+        raise InputError("slab.films must be an array of tables ([[slab.films]])")
+    if "substrate" not in slab:
+        raise InputError("slab.substrate is required")
+    substrate = _crystal("slab.substrate", slab.pop("substrate"), potential)
+    _check_keys("slab", slab, {"orientation", "lateral_size", "fixed_thickness",
+                               "thermostat_thickness", "vacuum"})
+    layers = tuple(_crystal(f"slab.films[{i}]", f, potential) for i, f in enumerate(films))
+    slab_spec = SlabSpec(films=layers, substrate=substrate, **slab)
+    indenter = dict(_table("indenter", data["indenter"]))
+    shape = indenter.pop("shape", "sphere")
+    if shape == "sphere":
+        _check_keys("indenter", indenter, {"radius", "K"})
+        if "radius" not in indenter:
+            raise InputError("indenter.radius is required for a sphere")
+        tip = SphereIndenter(**indenter)
+    elif shape == "cone":
+        _check_keys("indenter", indenter, {"half_angle", "tip_radius", "K", "height"})
+        tip = ConeIndenter(**indenter)
+    else:
+        raise InputError(f"indenter.shape = {shape!r} must be sphere or cone")
+    protocol = dict(_table("protocol", data["protocol"]))
+    allowed = set(IndentProtocol.__dataclass_fields__)
+    _check_keys("protocol", protocol, allowed)
+    if "depth" not in protocol:
+        raise InputError("protocol.depth is required")
+    try:
+        proto = IndentProtocol(**protocol)
+    except TypeError as exc:
+        raise InputError(f"protocol: {exc}") from None
+    return IndentSpec(str(data["name"]), potential, slab_spec, tip, proto)
+
+
+def load_spec(path: Path | str) -> IndentSpec:
+    """Read a spec file; relative potential files are found beside it."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise InputError(f"spec file {path}: {exc.strerror or exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"spec file {path}: {exc}") from None
+    return spec_from_mapping(data, path.parent)
+
+
+def preset(name: str) -> IndentSpec:
+    """The named preset's spec."""
+    if name not in PRESETS:
+        raise InputError(f"preset = {name!r} is not one of {', '.join(PRESETS)}")
+    return spec_from_mapping(copy.deepcopy(PRESETS[name]))

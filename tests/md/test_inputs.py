@@ -1,0 +1,117 @@
+"""LAMMPS input generation, without LAMMPS: the golden input of the ci preset (a declared
+regression file, reviewed by hand when it changes) beside independent checks of what the
+input must do: the indenter formula reaches the protocol's depth at the right steps, seeds lie
+in LAMMPS's range, and bad specs fail before any input is written."""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from filmscale.continuum.errors import InputError
+from filmscale.md.indentation import (SEED_MAX, IndentProtocol, derive_seeds,
+                                      indentation_input, resume_input)
+from filmscale.md.spec import PRESETS, preset, spec_from_mapping
+from filmscale.potentials import PotentialError
+
+GOLDEN = Path(__file__).parent / "golden"
+
+
+def _normalised(text: str) -> str:
+    """Machine-dependent parts out: the potentials folder and the package version."""
+    text = re.sub(r"pair_coeff \* \* \S*/(\S+)", r"pair_coeff * * <potentials>/\1", text)
+    return re.sub(r"# filmscale \S+ ", "# filmscale <version> ", text)
+
+
+def test_ci_input_matches_golden_file():
+    text = _normalised(indentation_input(preset("ci"), version="X"))
+    golden = (GOLDEN / "ci.in.indent").read_text()
+    assert text == golden
+
+
+def test_resume_input_matches_golden_file():
+    text = _normalised(resume_input(preset("ci"), restart_file="restart.600.bin",
+                                    restart_step=600, z_surface=19.85, part=1,
+                                    record="indent.1.dat", version="X"))
+    assert text == (GOLDEN / "ci.in.resume.1").read_text()
+
+
+def _evaluate_lammps_formula(formula: str, step: int, z_surface: float) -> float:
+    """Evaluate the equal-style formula with Python's own abs (an independent reading)."""
+    expr = formula.replace("v_z_surface", repr(z_surface)).replace("step", str(step))
+    return eval(expr, {"abs": abs})
+
+
+def test_indenter_formula_follows_the_protocol():
+    spec = preset("ci")
+    p = spec.protocol
+    s = p.schedule()
+    formula = re.search(r"variable z_tip equal (\S+)", indentation_input(spec)).group(1)
+    z0 = 20.0                                   # A
+    depth_a, gap_a = p.depth * 1e10, p.gap * 1e10
+    at = lambda step: _evaluate_lammps_formula(formula, step, z0)   # noqa: E731
+    assert at(0) == pytest.approx(z0 + gap_a)                  # waiting above the surface
+    assert at(s.s_hold) == pytest.approx(z0 - depth_a)         # full depth at end of loading
+    assert at(s.s_unload) == pytest.approx(z0 - depth_a)       # held
+    assert at(s.s_end) == pytest.approx(z0 + gap_a)            # back where it started
+    assert at(s.s_end + 500) == pytest.approx(z0 + gap_a)
+    # constant speed: (gap + depth) covered in n_down steps of dt
+    assert s.n_down * p.timestep * p.speed == pytest.approx(p.gap + p.depth, rel=1e-2)
+    # the Python mirror the analysis uses to place the indenter agrees at every step
+    steps = np.arange(0, s.s_end + 1, 7)
+    np.testing.assert_allclose([at(k) for k in steps],
+                               1e10 * s.tip_height(steps, z0 * 1e-10, p.gap), rtol=1e-12)
+
+
+def test_seeds_are_in_lammps_range_and_reproducible():
+    a = derive_seeds(7, ("velocity", "langevin"))
+    assert a == derive_seeds(7, ("velocity", "langevin"))
+    assert a != derive_seeds(7, ("velocity", "langevin"), part=1)
+    for seed in (0, 1, 2**62):
+        for value in derive_seeds(seed, ("a", "b", "c")).values():
+            assert 1 <= value <= SEED_MAX
+
+
+def _spec(**changes):
+    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in PRESETS["ci"].items()}
+    data["slab"] = dict(data["slab"])
+    for path, value in changes.items():
+        if "." not in path:
+            data[path] = value
+            continue
+        table, key = path.split(".")
+        data[table] = dict(data[table])
+        data[table][key] = value
+    return spec_from_mapping(data)
+
+
+def test_bad_specs_fail_before_any_input_is_written():
+    with pytest.raises(PotentialError, match="Ni"):          # element not in Cu_mishin1
+        _spec(**{"slab.substrate": {"element": "Ni", "thickness": 2e-9, "structure": "fcc",
+                                    "a": 3.52e-10}})
+    with pytest.raises(InputError, match="thinner than one lattice period"):
+        _spec(**{"slab.films": [{"element": "Cu", "thickness": 1e-10}]})
+    with pytest.raises(InputError, match="footprint .* box width"):
+        _spec(**{"indenter.radius": 3e-9, "protocol.depth": 1.5e-9,
+                 "slab.substrate": {"element": "Cu", "thickness": 4e-9}})
+    with pytest.raises(InputError, match="protocol.depth .* below the mobile atoms"):
+        _spec(**{"protocol.depth": 1.2e-9})
+    with pytest.raises(PotentialError, match="Cu_mishin"):
+        _spec(**{"potential.name": "Cu_mishin"})
+    with pytest.raises(InputError, match="protocol.speed"):
+        _spec(**{"protocol.speed": -1.0})
+    with pytest.raises(InputError, match="unknown key"):
+        _spec(**{"protocol.depht": 1e-10})
+
+
+def test_cone_indenter_input_uses_fix_indent_cone():
+    spec = _spec(indenter={"shape": "cone", "half_angle": 70.3, "tip_radius": 2e-10})
+    text = indentation_input(spec)
+    half = math.radians(70.3)
+    line = re.search(r"fix indenter all indent \S+ cone z (.*) units box", text).group(1)
+    x, y, r_lo, r_hi, lo, hi = line.split()
+    # the cone widens by tan(70.3 deg) per unit height over its 50 A height
+    assert float(r_hi) - float(r_lo) == pytest.approx(50.0 * math.tan(half), rel=1e-9)
+    assert (lo, hi) == ("v_z_tip", "v_z_top")

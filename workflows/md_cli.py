@@ -1,0 +1,123 @@
+"""`filmscale md indent` and `filmscale potentials`: the atomistic commands.
+
+Everything that can be wrong with the input (spec, potential, elements, sizes) is checked
+before LAMMPS starts; the run shows a progress bar on a terminal and can be interrupted and
+resumed by running the same command again with the same ``--out``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+from filmscale.continuum.errors import InputError
+from filmscale.potentials import get_potential, registry, verify_all
+
+from .provenance import provenance
+
+
+def _indent_spec(args):
+    from filmscale.md.spec import load_spec, preset
+    if (args.spec is None) == (args.preset is None):
+        raise InputError("give a spec file or --preset NAME (one of them)")
+    return preset(args.preset) if args.preset else load_spec(args.spec)
+
+
+def cmd_md_indent(args) -> int:
+    from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
+    from filmscale.md.elastic import elastic_constants
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.record import write_record
+    from filmscale.md.run import run_indentation
+
+    spec = _indent_spec(args)
+    engine = EngineOptions(np=args.np, omp_threads=args.omp)
+    out = Path(args.out) if args.out else Path("md_runs") / spec.name
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out} is a file, not a folder")
+    slab = spec.slab_built
+    if not args.json:
+        print(f"{spec.name}: {slab.n_atoms} atoms, {spec.protocol.schedule().s_end} steps, "
+              f"{engine.to_dict()['mode']} with {args.np} rank(s); run directory {out}",
+              file=sys.stderr)
+
+    from tqdm import tqdm
+    bar = tqdm(total=spec.protocol.schedule().s_end, unit="step", disable=None,
+               file=sys.stderr)
+
+    def progress(step, total):
+        bar.update(max(0, step - bar.n))
+
+    try:
+        run = run_indentation(spec, out, engine, progress=progress)
+    finally:
+        bar.close()
+    top = (spec.slab.films or (spec.slab.substrate,))[0].crystal
+    elastic = elastic_constants(spec.potential, top, run_dir=out / "elastic")
+    analysis = analyze_indentation(run, elastic)
+    record = write_record(run, analysis, elastic, provenance=provenance(
+        command="filmscale " + " ".join(sys.argv[1:])))
+    if args.json:
+        result = {"P_max": analysis.P_max, "h_max": analysis.h_max,
+                  "residual_depth": analysis.residual_depth,
+                  "E_r_hertz": analysis.E_r_hertz, "E_star": analysis.E_star,
+                  "hertz_ratio": analysis.hertz_ratio, "popin_load": analysis.popin_load,
+                  "popin_depth": analysis.popin_depth,
+                  "popin_shear_stress": analysis.popin_shear_stress,
+                  "contact_area_md": analysis.contact_area_md,
+                  "contact_area_op": analysis.op.A_c if analysis.op is not None else None,
+                  "pile_up": analysis.pile_up, "n_atoms": run.n_atoms,
+                  "n_steps": run.n_steps, "wall_time": run.wall_time,
+                  "result": str(record)}
+        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+                          for k, v in result.items()}, allow_nan=False))
+    else:
+        print(elastic.summary())
+        print(analysis.summary())
+        if math.isfinite(analysis.hertz_ratio) and \
+                abs(analysis.hertz_ratio - 1.0) > HERTZ_TOLERANCE:
+            print(f"note: the Hertzian segment departs from the potential's E* by more than "
+                  f"{HERTZ_TOLERANCE:.0%} (a film on a stiffer or softer substrate does)")
+        print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
+    return 0
+
+
+def cmd_potentials(args) -> int:
+    if args.action == "list":
+        for pot in registry().values():
+            print(f"{pot.name:14s} {' '.join(pot.elements):10s} {pot.pair_style:16s} "
+                  f"{pot.file}")
+        return 0
+    if args.action == "show":
+        if not args.name:
+            raise InputError("potentials show needs a NAME (see: filmscale potentials list)")
+        print(get_potential(args.name).summary())
+        return 0
+    failed = 0
+    for name, status in verify_all():
+        print(f"{name:14s} {status}")
+        failed += status != "ok"
+    return 2 if failed else 0
+
+
+def add_commands(sub) -> None:
+    """Register ``md`` and ``potentials`` on the top-level subparsers."""
+    md = sub.add_parser("md", help="LAMMPS molecular dynamics runs")
+    msub = md.add_subparsers(dest="md_command", required=True)
+    p = msub.add_parser("indent", help="atomistic nanoindentation of a film stack",
+                        description="Run (or resume, with the same --out) an MD indentation, "
+                                    "analyse its curve and write the HDF5 record.")
+    p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
+    p.add_argument("--preset", help="ci, quick or research instead of a spec file")
+    p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
+    p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
+    p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    p.set_defaults(func=cmd_md_indent)
+
+    p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows")
+    p.add_argument("action", choices=("list", "show", "verify"))
+    p.add_argument("name", nargs="?", help="potential name (for show)")
+    p.set_defaults(func=cmd_potentials)

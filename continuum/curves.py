@@ -22,7 +22,7 @@ import numpy as np
 from scipy.ndimage import convolve1d
 from scipy.signal import savgol_coeffs
 
-from .errors import InputError, check_positive, check_real
+from .errors import InputError, check_float_array, check_positive, check_real
 
 LOAD, HOLD, UNLOAD = 0, 1, 2
 SEGMENT_NAMES = ("load", "hold", "unload")
@@ -180,12 +180,7 @@ class LoadDisplacementCurve:
 
 
 def _column(name, values) -> np.ndarray:
-    if isinstance(values, str):
-        raise InputError(f"curve {name} must be numbers, got {values!r}")
-    try:
-        arr = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"curve {name} must be numbers") from None
+    arr = check_float_array(f"curve {name}", values)
     if arr.ndim != 1:
         raise InputError(f"curve {name} must be 1-D, got shape {arr.shape}")
     arr.setflags(write=False)

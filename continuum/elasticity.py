@@ -22,7 +22,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import InputError, check_real
+from .errors import InputError, check_float_array, check_real
 from .materials import ElasticPlastic, reduced_modulus as _reduced_modulus
 
 #: smallest eigenvalue of an accepted stiffness, relative to the largest: below it C is
@@ -34,12 +34,7 @@ SYMMETRY_RTOL = 1e-8
 
 def _as_stiffness(C, name: str = "C") -> np.ndarray:
     """C as a finite, symmetric 6x6 float array; InputError otherwise."""
-    if isinstance(C, str):
-        raise InputError(f"{name} must be a 6x6 array of numbers, got {C!r}")
-    try:
-        arr = np.asarray(C, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a 6x6 array of numbers, got {C!r}") from None
+    arr = check_float_array(name, C, "a 6x6 array of numbers")
     if arr.shape != (6, 6):
         raise InputError(f"{name} must be a 6x6 Voigt stiffness matrix, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -295,12 +290,7 @@ def stiffness_from_stress_strain(strains, stresses) -> StiffnessFit:
 
 
 def _as_pairs(name: str, values) -> np.ndarray:
-    if isinstance(values, str):
-        raise InputError(f"{name} must be a (k, 6) array of numbers, got {values!r}")
-    try:
-        arr = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a (k, 6) array of numbers") from None
+    arr = check_float_array(name, values, "a (k, 6) array of numbers")
     if arr.ndim != 2 or arr.shape[1] != 6:
         raise InputError(f"{name} must have shape (k, 6) (Voigt vectors), got {arr.shape}")
     if not np.all(np.isfinite(arr)):

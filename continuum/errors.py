@@ -52,6 +52,17 @@ def check_real(name: str, value, *, low: float = -math.inf, high: float = math.i
     return x
 
 
+def check_float_array(name: str, values, description: str = "numbers") -> np.ndarray:
+    """``values`` as a new float array, or InputError naming ``name`` (text and non-numbers
+    are refused; shape checks are the caller's)."""
+    if isinstance(values, str):
+        raise InputError(f"{name} must be {description}, got {values!r}")
+    try:
+        return np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be {description}") from None
+
+
 def check_positive(name: str, value, unit: str = "") -> float:
     """A finite number > 0."""
     return check_real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True,

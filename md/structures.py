@@ -175,7 +175,7 @@ def build_slab(spec: SlabSpec) -> Slab:
     Lx, Ly = nx * px, ny * py
 
     pieces, tops, misfits, periods = [], [], [], []
-    z_top = None
+    z_top, below_spacing = None, 0.0
     for label, layer in reversed(spec.layers()):          # substrate first, bottom up
         cell = layer.crystal.unit_cell(spec.orientation)
         pz = cell.cell[2, 2]

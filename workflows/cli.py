@@ -1,7 +1,8 @@
 """The `filmscale` command line: a thin layer over the library.
 
 Exit status: 0 success; 2 bad input (one line naming the field, no traceback); 1 a valid
-question the model cannot answer (an approach that would exceed the sphere radius).
+question the model cannot answer (an approach that would exceed the sphere radius), or a
+LAMMPS run that stopped with an error (its message and run directory).
 """
 
 from __future__ import annotations
@@ -18,13 +19,12 @@ import numpy as np
 from filmscale.continuum import MAP_FIELDS, impact_map
 from filmscale.continuum.errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError,
                                         ModelRangeError, check_real)
-
+from filmscale.continuum.io import atomic_path
 from filmscale.md.engine import LammpsError, LammpsUnavailable
 from filmscale.potentials import PotentialError
 
 from . import md_cli
 from .scene import MapSpec, Scene, load_scene
-from .store import atomic_path
 
 
 def _range_arg(text: str) -> tuple[float, float, int]:

@@ -21,7 +21,7 @@ from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
 
 from filmscale.continuum import MAP_FIELDS, ImpactHistory, ImpactMap  # noqa: E402
 
-from .store import atomic_path  # noqa: E402
+from filmscale.continuum.io import atomic_path  # noqa: E402
 
 #: file formats the plots can be written in
 PLOT_FORMATS = tuple(sorted(FigureCanvasAgg.get_supported_filetypes()))

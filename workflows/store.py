@@ -13,7 +13,7 @@ import numpy as np
 from filmscale.continuum import ImpactMap, ImpactMaxima
 from filmscale.continuum.impact import STATUS_MESSAGES
 from filmscale.continuum.errors import InputError
-from filmscale.continuum.io import atomic_h5, atomic_path  # noqa: F401 (re-exported)
+from filmscale.continuum.io import atomic_h5
 
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
 

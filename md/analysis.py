@@ -118,7 +118,8 @@ def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
     ratio."""
     curve = run.curve.finite()
     spec = run.spec
-    noise = load_noise_sigma(curve.P[curve.segment == LOAD][curve.P[curve.segment == LOAD] > 0])
+    loading = curve.P[curve.segment == LOAD]
+    noise = load_noise_sigma(loading[loading > 0])
     drop = detect_load_drop(curve, threshold=popin_threshold)
     E_star = elastic.E_star if elastic is not None else math.nan
     nan = math.nan

@@ -23,7 +23,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from filmscale.continuum.errors import InputError, check_positive, check_real
-from filmscale.md.structures import Slab, SlabSpec
+from filmscale.md.structures import Slab, SlabSpec, build_slab
 from filmscale.md.units import from_si, to_si
 from filmscale.potentials import Potential
 
@@ -223,7 +223,6 @@ class IndentSpec:
                              "slashes)")
         self.potential.pair_commands(self.slab.elements)   # unknown elements fail here
         if self.slab_built is None:
-            from filmscale.md.structures import build_slab
             object.__setattr__(self, "slab_built", build_slab(self.slab))
         slab = self.slab_built
         p = self.protocol

@@ -11,7 +11,6 @@ curve keeps, for every step, the row of the latest part that reached it.
 from __future__ import annotations
 
 import json
-import os
 import re
 import time
 from collections.abc import Callable
@@ -22,6 +21,7 @@ import numpy as np
 from ase.io import write as ase_write
 
 from filmscale.continuum.curves import LoadDisplacementCurve
+from filmscale.continuum.io import atomic_path
 from filmscale.md import __version__
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
@@ -60,9 +60,8 @@ class IndentRun:
 
 
 def _write_json(path: Path, data: dict):
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(data, indent=2))
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(json.dumps(data, indent=2))
 
 
 def _restarts(run_dir: Path) -> list[tuple[int, Path]]:

@@ -51,3 +51,21 @@ def test_regions_leave_mobile_atoms():
     with pytest.raises(InputError, match="leaves no mobile atoms"):
         build_slab(SlabSpec(films=(), substrate=SlabLayer(CU, 1.1e-9),
                             fixed_thickness=6e-10, thermostat_thickness=6e-10))
+
+
+def test_multilayer_order_and_bcc_cells():
+    # Ni on Cu on a Ni substrate: layer tops run down the stack, counts follow the cells
+    slab = build_slab(SlabSpec(films=(SlabLayer(NI, 0.704e-9), SlabLayer(CU, 0.723e-9)),
+                               substrate=SlabLayer(NI, 1.408e-9), lateral_size=1.76e-9))
+    tops = slab.layer_tops
+    assert tops[0] > tops[1] > tops[2]
+    assert slab.element_counts == {"Ni": 4 * 25 * (2 + 4), "Cu": 4 * 25 * 2}
+    # the top Ni film sits coherently on the Ni substrate's lattice: no misfit
+    assert slab.misfit[0] == pytest.approx((0.0, 0.0), abs=1e-12)
+    # bcc W (001): 2 atoms per cubic cell, (001) planes a/2 apart
+    w = Crystal("W", "bcc", 3.165e-10)
+    slab = build_slab(SlabSpec(films=(), substrate=SlabLayer(w, 1.266e-9),
+                               lateral_size=1.27e-9, fixed_thickness=2e-10,
+                               thermostat_thickness=2e-10))
+    assert slab.n_atoms == 2 * 4 * 4 * 4
+    assert slab.surface_layer_gap == pytest.approx(3.165e-10 / 2, rel=1e-9)

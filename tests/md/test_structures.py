@@ -69,3 +69,15 @@ def test_multilayer_order_and_bcc_cells():
                                thermostat_thickness=2e-10))
     assert slab.n_atoms == 2 * 4 * 4 * 4
     assert slab.surface_layer_gap == pytest.approx(3.165e-10 / 2, rel=1e-9)
+
+
+def test_hcp_basal_slab_with_ideal_c():
+    co = Crystal("Co", "hcp", 2.507e-10)            # c defaults to sqrt(8/3) a
+    slab = build_slab(SlabSpec(films=(), substrate=SlabLayer(co, 2.05e-9), orientation="0001",
+                               lateral_size=1.5e-9, fixed_thickness=3e-10,
+                               thermostat_thickness=3e-10))
+    # basal planes are c/2 apart; the orthogonal cell holds 4 atoms
+    assert slab.surface_layer_gap == pytest.approx(2.507e-10 * math.sqrt(8 / 3) / 2, rel=1e-9)
+    assert slab.n_atoms % 4 == 0
+    with pytest.raises(InputError, match="orientation = '001' is not available for hcp"):
+        build_slab(SlabSpec(films=(), substrate=SlabLayer(co, 2e-9)))

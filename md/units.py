@@ -1,8 +1,18 @@
-"""LAMMPS ``metal`` units to SI and back: the one place where LAMMPS units are converted.
+"""LAMMPS units to SI and back: the one place where LAMMPS units are converted.
 
 Every quantity that crosses the boundary of ``filmscale.md`` goes through `to_si` or
-`from_si` with the name of its dimension; nothing else in the package multiplies by a unit
-factor. Factors are exact or CODATA 2018, as LAMMPS uses them (``update.cpp``).
+`from_si` with the name of its dimension and of the unit system; nothing else in the package
+multiplies by a unit factor.
+
+Two systems are used:
+
+- ``metal`` (atomistic runs): LAMMPS's own metal units. Factors are exact or CODATA 2018, as
+  LAMMPS uses them (``update.cpp``).
+- ``particle`` (SPH and peridynamics runs): micrometre, gigapascal, nanosecond, a consistent
+  system given to LAMMPS under ``units si`` (MACHDYN and PERI have no unit-dependent constants;
+  the MACHDYN examples do the same with mm, GPa, ms). It keeps the numbers of micrometre-scale
+  contact near one: a 1 um sphere, E = 70 (GPa), density 2.7 (pg/um^3), wave speed 5 (um/ns),
+  loads in mN, where SI would mix 1e-6 m with 1e11 Pa.
 """
 
 from __future__ import annotations
@@ -31,21 +41,48 @@ METAL = {
     "temperature": 1.0,                        # K
 }
 
+MICROMETRE = 1e-6             # m
+GIGAPASCAL = 1e9              # Pa
+NANOSECOND = 1e-9             # s
 
-def _factor(dimension: str) -> float:
+#: SI value of one particle-model unit of each dimension (um, GPa, ns and what follows).
+PARTICLE = {
+    "length": MICROMETRE,
+    "area": MICROMETRE**2,
+    "volume": MICROMETRE**3,
+    "time": NANOSECOND,
+    "velocity": MICROMETRE / NANOSECOND,                     # 1000 m/s
+    "pressure": GIGAPASCAL,
+    "force": GIGAPASCAL * MICROMETRE**2,                     # 1 mN
+    "energy": GIGAPASCAL * MICROMETRE**3,                    # 1 nJ
+    "stiffness": GIGAPASCAL * MICROMETRE,                    # force per length
+    "indent_constant": GIGAPASCAL,                           # fix indent K: force per length^2
+    "mass": GIGAPASCAL * MICROMETRE * NANOSECOND**2,         # 1 pg
+    "density": GIGAPASCAL * NANOSECOND**2 / MICROMETRE**2,   # 1000 kg/m^3
+}
+
+SYSTEMS = {"metal": METAL, "particle": PARTICLE}
+
+
+def _factor(dimension: str, system: str) -> float:
     try:
-        return METAL[dimension]
+        table = SYSTEMS[system]
     except KeyError:
-        raise KeyError(f"unknown dimension {dimension!r}; known: {', '.join(METAL)}") from None
+        raise KeyError(f"unknown unit system {system!r}; known: {', '.join(SYSTEMS)}") from None
+    try:
+        return table[dimension]
+    except KeyError:
+        raise KeyError(f"unknown dimension {dimension!r} in {system} units; "
+                       f"known: {', '.join(table)}") from None
 
 
-def to_si(value, dimension: str):
-    """A metal-unit value (scalar or array) in SI."""
-    f = _factor(dimension)
+def to_si(value, dimension: str, system: str = "metal"):
+    """A value (scalar or array) in the given LAMMPS unit system, in SI."""
+    f = _factor(dimension, system)
     return value * f if np.ndim(value) == 0 else np.asarray(value, dtype=float) * f
 
 
-def from_si(value, dimension: str):
-    """An SI value (scalar or array) in metal units."""
-    f = _factor(dimension)
+def from_si(value, dimension: str, system: str = "metal"):
+    """An SI value (scalar or array) in the given LAMMPS unit system."""
+    f = _factor(dimension, system)
     return value / f if np.ndim(value) == 0 else np.asarray(value, dtype=float) / f

@@ -1,0 +1,181 @@
+"""Particle-model run specs from TOML tables, and the named presets.
+
+A spec file (SI units throughout)::
+
+    name = "al6061-sphere"
+    method = "tlsph"              # or "peri" (layered, elastic)
+    tip = "sphere:1um"            # or "cone:70.3" (indentation only)
+    [target.substrate]
+    E = 66.8e9
+    nu = 0.33
+    sigma_y = 284e6               # leave out for an elastic target
+    n = 0.08
+    density = 2700                # kg/m^3
+    [[target.films]]              # optional, top first (method "peri")
+    thickness = 0.25e-6
+    E = 200e9
+    nu = 0.25
+    density = 3500
+    [grid]
+    spacing = 1.333e-7            # m
+    width = 2e-6                  # m, from the axis to the sides
+    depth = 2e-6                  # m, from the surface to the rigid base
+    quarter = true                # symmetry planes through the axis
+    [loading]                     # indentation
+    depth = 1e-7
+    speed = 50.0                  # m/s
+    hold_time = 0.0
+    [impact]                      # impact
+    mass = 2.6e-14                # kg
+    velocity = 50.0               # m/s
+
+Presets (the settings `benchmarks/particles_convergence.py` picks; times in the README):
+``ci`` (elastic, seconds), ``quick`` (about 5 % error) and ``research`` (about 2 %).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+from filmscale.continuum.errors import InputError
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
+                                    ParticleIndentSpec, ParticleMaterial, ParticleTarget)
+
+_AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
+_R = 1e-6
+
+
+def _hertz_mass(depth: float, velocity: float, material: dict, R: float = _R) -> float:
+    """Mass whose elastic Hertz impact at ``velocity`` reaches ``depth`` (physics.md 1)."""
+    E_star = material["E"] / (1 - material["nu"]**2)
+    return depth**2.5 * 16 * E_star * math.sqrt(R) / (15 * velocity**2)
+
+
+PRESETS: dict[str, dict[str, dict]] = {
+    "indent": {
+        "ci": {"name": "ci-elastic-sphere", "method": "tlsph", "tip": "sphere:1um",
+               "target": {"substrate": dict(_AL)},
+               "grid": {"spacing": _R / 5, "width": 2 * _R, "depth": 2 * _R},
+               "loading": {"depth": 0.1 * _R, "speed": 50.0, "frames": 3}},
+        "quick": {"name": "quick-elastic-sphere", "method": "tlsph", "tip": "sphere:1um",
+                  "target": {"substrate": dict(_AL)},
+                  "grid": {"spacing": _R / 7.5, "width": 2 * _R, "depth": 2 * _R},
+                  "loading": {"depth": 0.1 * _R, "speed": 50.0}},
+        "research": {"name": "research-elastic-sphere", "method": "tlsph", "tip": "sphere:1um",
+                     "target": {"substrate": dict(_AL)},
+                     "grid": {"spacing": _R / 12, "width": 3 * _R, "depth": 3 * _R},
+                     "loading": {"depth": 0.1 * _R, "speed": 25.0}},
+    },
+    "impact": {
+        "ci": {"name": "ci-elastic-impact", "method": "tlsph", "tip": "sphere:1um",
+               "target": {"substrate": dict(_AL)},
+               "grid": {"spacing": _R / 5, "width": 2 * _R, "depth": 2 * _R},
+               "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0,
+                          "frames": 3}},
+        "quick": {"name": "quick-elastic-impact", "method": "tlsph", "tip": "sphere:1um",
+                  "target": {"substrate": dict(_AL)},
+                  "grid": {"spacing": _R / 7.5, "width": 2 * _R, "depth": 2 * _R},
+                  "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0}},
+        "research": {"name": "research-elastic-impact", "method": "tlsph",
+                     "tip": "sphere:1um", "target": {"substrate": dict(_AL)},
+                     "grid": {"spacing": _R / 12, "width": 3 * _R, "depth": 3 * _R},
+                     "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL),
+                                "velocity": 50.0}},
+    },
+}
+
+_MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n", "density"}
+
+
+def _table(where: str, value) -> dict:
+    if not isinstance(value, dict):
+        raise InputError(f"[{where}] must be a table, got {value!r}")
+    return value
+
+
+def _check_keys(where: str, table: dict, allowed: set[str]):
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise InputError(f"[{where}] has unknown keys {unknown}; allowed: {sorted(allowed)}")
+
+
+def _material(where: str, table: dict) -> ParticleMaterial:
+    table = _table(where, table)
+    _check_keys(where, table, _MATERIAL_KEYS | ({"thickness"} if "films" in where else set()))
+    for key in ("E", "nu"):
+        if key not in table:
+            raise InputError(f"[{where}] needs {key}")
+    mat = ElasticPlastic(table["E"], table["nu"], table.get("sigma_y", math.inf),
+                         table.get("n", 0.0), table.get("name", where))
+    return ParticleMaterial(mat, table.get("density", 2700.0))
+
+
+def _target(table: dict) -> ParticleTarget:
+    table = _table("target", table)
+    _check_keys("target", table, {"substrate", "films"})
+    if "substrate" not in table:
+        raise InputError("[target] needs a [target.substrate] table")
+    films = []
+    for k, film in enumerate(table.get("films", [])):
+        film = _table(f"target.films[{k}]", film)
+        if "thickness" not in film:
+            raise InputError(f"[target.films[{k}]] needs thickness (m)")
+        films.append((film["thickness"], _material(f"target.films[{k}]", film)))
+    return ParticleTarget(_material("target.substrate", table["substrate"]), tuple(films))
+
+
+def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImpactSpec:
+    """A spec from a parsed TOML table; ``kind`` is ``indent`` or ``impact``."""
+    data = _table("spec", data)
+    section = "loading" if kind == "indent" else "impact"
+    _check_keys("spec", data, {"name", "method", "tip", "target", "grid", section})
+    for key in ("target", "grid", section):
+        if key not in data:
+            raise InputError(f"the {kind} spec needs a [{key}] table")
+    grid = _table("grid", data["grid"])
+    _check_keys("grid", grid, {"spacing", "width", "depth", "quarter"})
+    try:
+        grid = Grid(**grid)
+    except TypeError as exc:
+        raise InputError(f"[grid] needs spacing, width and depth (m): {exc}") from None
+    common = dict(name=str(data.get("name", kind)), method=data.get("method", "tlsph"),
+                  target=_target(data["target"]), tip=data.get("tip", "sphere:1um"), grid=grid)
+    body = _table(section, data[section])
+    if kind == "indent":
+        _check_keys("loading", body, {"depth", "speed", "hold_time", "frames"})
+        try:
+            return ParticleIndentSpec(loading=IndentLoading(**body), **common)
+        except TypeError as exc:
+            raise InputError(f"[loading] needs depth (m) and speed (m/s): {exc}") from None
+    _check_keys("impact", body, {"mass", "velocity", "duration", "frames"})
+    if "mass" not in body or "velocity" not in body:
+        raise InputError("[impact] needs mass (kg) and velocity (m/s)")
+    return ParticleImpactSpec(**common, **body)
+
+
+def load_spec(path: Path | str, kind: str, method: str | None = None):
+    """A spec from a TOML file; ``method`` overrides the file's."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except FileNotFoundError:
+        raise InputError(f"spec file {str(path)!r} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"spec file {str(path)!r} is not valid TOML: {exc}") from None
+    if method is not None:
+        data["method"] = method
+    return spec_from_mapping(data, kind)
+
+
+def preset(name: str, kind: str, method: str | None = None):
+    """A named preset (``ci``, ``quick``, ``research``) of ``kind`` (indent or impact)."""
+    if name not in PRESETS[kind]:
+        raise InputError(f"preset = {name!r} is not one of {sorted(PRESETS[kind])}")
+    data = copy.deepcopy(PRESETS[kind][name])
+    if method is not None:
+        data["method"] = method
+    return spec_from_mapping(data, kind)

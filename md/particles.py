@@ -1,0 +1,652 @@
+"""Particle continuum models in LAMMPS: specs and input files.
+
+Two discretisations of an elastic(-plastic) solid, both run by LAMMPS from a complete input
+file written here:
+
+- ``tlsph``: total-Lagrangian SPH of the MACHDYN package (``pair_style smd/tlsph``), elastic or
+  elastic-plastic (linear or power-law hardening). One bonded body per particle type, so it
+  takes homogeneous targets only.
+- ``peri``: linear peridynamic solid of the PERI package (``pair_style peri/lps``), elastic,
+  with the film and substrate bonded across their interface: the layered targets.
+
+The rigid indenter is LAMMPS's ``fix indent`` (a penalty contact: an atom inside the sphere or
+cone is pushed out with force K d^2). Quasi-static indentation drives it at constant speed
+(displacement control, load-hold-unload); an impact lets a free rigid sphere of mass m hit
+the target: a small unbonded particle cluster carries the sphere's mass, its height drives
+the indenter, and the indenter's reaction is applied to it, so the sphere decelerates and
+rebounds under the contact force.
+
+Cost: the block is a cube lattice of spacing dx; a quarter model (symmetry planes x = 0 and
+y = 0, particles on them carrying half or a quarter of a cell) cuts the particle count by
+about four. Numbers given to LAMMPS are in the ``particle`` unit system of
+`filmscale.md.units` (um, GPa, ns), converted there; everything here takes SI.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+from filmscale.continuum.errors import InputError, check_choice, check_positive, check_real
+from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
+from filmscale.continuum.tips import Cone, Sphere, Tip, parse_tip
+from filmscale.md.units import from_si
+
+METHODS = ("tlsph", "peri")
+
+#: Coarsest spacing accepted: the sphere radius over at least this many spacings. Below it the
+#: contact at 0.1 R spans fewer than two particles and the load is lattice noise.
+MIN_RADIUS_SPACINGS = 5.0
+#: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.
+TLSPH_KERNEL = 2.01
+#: Peridynamic horizon in spacings (the usual 3 dx; 3.015 avoids lattice round-off).
+PERI_HORIZON = 3.015
+#: CFL factor of ``fix smd/adjust_dt`` (the MACHDYN examples' 0.1).
+CFL = 0.1
+#: Penalty stiffness K of ``fix indent`` in units of the target's largest E*: an atom under a
+#: contact pressure p sits dx sqrt(p / (K_FACTOR E*)) inside the indenter, 4 % of dx at
+#: p = 0.2 E* (Hertz at 0.1 R depth).
+K_FACTOR = 100.0
+#: Artificial viscosity (linear, quadratic) and hourglass control of TLSPH (MACHDYN examples).
+TLSPH_Q1, TLSPH_Q2, TLSPH_HOURGLASS = 0.06, 0.0, 10.0
+#: Plastic strains between which a power-law hardening curve is matched by Johnson-Cook.
+JC_STRAINS = (0.033, 0.1)
+
+RECORD = "particles.dat"
+INDENT_COLUMNS = ("time", "depth", "load", "apex")
+IMPACT_COLUMNS = ("time", "approach", "load", "velocity")
+
+
+def _length(name: str, value) -> float:
+    return check_real(name, value, low=1e-10, high=1e-1, low_open=False, unit="m")
+
+
+@dataclass(frozen=True)
+class ParticleMaterial:
+    """A material of a particle model: the continuum package's `ElasticPlastic` and a mass
+    density (kg/m^3)."""
+
+    material: ElasticPlastic
+    density: float = 2700.0
+
+    def __post_init__(self):
+        if not isinstance(self.material, ElasticPlastic):
+            raise InputError(f"material must be an ElasticPlastic, got {self.material!r}")
+        object.__setattr__(self, "density", check_real(
+            f"{self.material.name or 'material'}.density", self.density, low=1.0, high=1e5,
+            unit="kg/m^3"))
+
+    @property
+    def elastic(self) -> bool:
+        return math.isinf(self.material.sigma_y)
+
+    @property
+    def wave_speed(self) -> float:
+        """P-wave speed sqrt(M / rho), m/s: the CFL speed of both solvers."""
+        E, nu = self.material.E, self.material.nu
+        M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+        return math.sqrt(M / self.density)
+
+
+@dataclass(frozen=True)
+class ParticleTarget:
+    """A homogeneous or layered half-space: films top first on a substrate, each with its
+    density. ``stack`` gives the `LayerStack` the continuum models take."""
+
+    substrate: ParticleMaterial
+    films: tuple[tuple[float, ParticleMaterial], ...] = ()
+
+    def __post_init__(self):
+        films = tuple(self.films)
+        for k, (t, m) in enumerate(films):
+            _length(f"films[{k}].thickness", t)
+            if not isinstance(m, ParticleMaterial):
+                raise InputError(f"films[{k}] must be a ParticleMaterial, got {m!r}")
+        object.__setattr__(self, "films", films)
+
+    @property
+    def stack(self) -> LayerStack:
+        return LayerStack(tuple(Layer(t, m.material) for t, m in self.films),
+                          self.substrate.material)
+
+    @property
+    def materials(self) -> tuple[ParticleMaterial, ...]:
+        return (*(m for _, m in self.films), self.substrate)
+
+    @property
+    def layered(self) -> bool:
+        return bool(self.films)
+
+    @property
+    def elastic(self) -> bool:
+        return all(m.elastic for m in self.materials)
+
+    def reduced_modulus(self, layer: int = -1) -> float:
+        """E* = E/(1 - nu^2) of one material (default the substrate) against a rigid tip."""
+        return self.materials[layer].material.plane_strain_modulus
+
+    @property
+    def top(self) -> ParticleMaterial:
+        return self.materials[0]
+
+    def to_dict(self) -> dict:
+        def mat(m: ParticleMaterial) -> dict:
+            d = asdict(m.material)
+            d["density"] = m.density
+            return d
+        return {"substrate": mat(self.substrate),
+                "films": [{"thickness": t, **mat(m)} for t, m in self.films]}
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The particle block: cube lattice of ``spacing`` (m), ``width`` (m) from the axis to the
+    lateral sides, ``depth`` (m) from the surface to the rigid base. ``quarter`` keeps one
+    quarter of the block (x, y >= 0) with symmetry planes through the axis."""
+
+    spacing: float
+    width: float
+    depth: float
+    quarter: bool = True
+
+    def __post_init__(self):
+        dx = _length("grid.spacing", self.spacing)
+        for name in ("width", "depth"):
+            value = _length(f"grid.{name}", getattr(self, name))
+            if value < 4 * dx:
+                raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
+                                 f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
+        object.__setattr__(self, "quarter", bool(self.quarter))
+
+    def counts(self) -> tuple[int, int, int]:
+        """Lattice points along x (and y) and z."""
+        n_side = round(self.width / self.spacing)
+        nxy = n_side + 1 if self.quarter else 2 * n_side + 1
+        return nxy, nxy, round(self.depth / self.spacing) + 1
+
+    @property
+    def n_particles(self) -> int:
+        nx, ny, nz = self.counts()
+        return nx * ny * nz
+
+
+def _tip(tip) -> Tip:
+    tip = parse_tip(tip)
+    if not isinstance(tip, (Sphere, Cone)):
+        raise InputError(f"tip = {tip.spec!r}: particle models take a sphere or a cone")
+    return tip
+
+
+def _check_resolution(tip: Tip, grid: Grid, depth: float, method: str):
+    dx = grid.spacing
+    if isinstance(tip, Sphere):
+        if tip.R < MIN_RADIUS_SPACINGS * dx:
+            raise InputError(
+                f"grid.spacing = {dx:g} m is too coarse for the sphere radius {tip.R:g} m; "
+                f"valid: spacing <= R/{MIN_RADIUS_SPACINGS:g} = {tip.R / MIN_RADIUS_SPACINGS:g} m")
+        contact = math.sqrt(max(2 * tip.R * depth - depth**2, 0.0))
+    else:
+        contact = depth * math.tan(math.radians(tip.half_angle))
+    if method == "peri" and contact < PERI_HORIZON * dx:
+        raise InputError(
+            f"grid.spacing = {dx:g} m: the peridynamic horizon ({PERI_HORIZON:g} spacings = "
+            f"{PERI_HORIZON * dx:g} m) exceeds the contact radius {contact:g} m at the "
+            f"maximum depth; valid: spacing <= {contact / PERI_HORIZON:g} m")
+    if contact < 2 * dx:
+        raise InputError(
+            f"grid.spacing = {dx:g} m: the contact radius at the maximum depth ({contact:g} m)"
+            f" spans under 2 spacings; valid: spacing <= {contact / 2:g} m")
+    if grid.width < 2 * contact:
+        raise InputError(f"grid.width = {grid.width:g} m is under twice the contact radius "
+                         f"({2 * contact:g} m); valid: >= {2 * contact:g} m")
+    if grid.depth < 2 * contact or grid.depth < 2 * depth:
+        need = 2 * max(contact, depth)
+        raise InputError(f"grid.depth = {grid.depth:g} m is under {need:g} m (twice the "
+                         f"contact radius and the depth); valid: >= {need:g} m")
+
+
+def _check_method(method: str, target: ParticleTarget) -> str:
+    method = check_choice("method", method, METHODS)
+    if method == "tlsph" and target.layered:
+        raise InputError("method = 'tlsph' cannot bond a film to a substrate (TLSPH bonds "
+                         "one particle type per body); use method 'peri' for a layered target")
+    if method == "peri" and not target.elastic:
+        raise InputError("method = 'peri' models elastic targets only: peri/eps, its "
+                         "elastic-plastic solid, returns NaN at the onset of yield in this "
+                         "LAMMPS version; use method 'tlsph' for a homogeneous "
+                         "elastic-plastic target")
+    return method
+
+
+@dataclass(frozen=True)
+class IndentLoading:
+    """Displacement control: down at ``speed`` (m/s) to ``depth`` (m), hold ``hold_time``
+    (s), back up at the same speed to the starting height. ``frames`` field snapshots are
+    written over the run."""
+
+    depth: float
+    speed: float
+    hold_time: float = 0.0
+    frames: int = 6
+
+    def __post_init__(self):
+        _length("loading.depth", self.depth)
+        check_real("loading.speed", self.speed, low=1e-6, high=1e4, unit="m/s")
+        check_real("loading.hold_time", self.hold_time, low=0.0, high=1.0, unit="s")
+        object.__setattr__(self, "frames", int(check_real("loading.frames", self.frames,
+                                                          low=0, high=1000)))
+
+    @property
+    def times(self) -> tuple[float, float, float]:
+        """End of loading, of the hold and of unloading, s."""
+        t1 = self.depth / self.speed
+        return t1, t1 + self.hold_time, 2 * t1 + self.hold_time
+
+
+@dataclass(frozen=True)
+class ParticleIndentSpec:
+    """A quasi-static indentation of a particle model. ``tip``: a `Sphere` or `Cone` of the
+    continuum package, or its text (``sphere:1um``, ``cone:70.3``)."""
+
+    name: str
+    method: str
+    target: ParticleTarget
+    tip: Tip
+    loading: IndentLoading
+    grid: Grid
+
+    def __post_init__(self):
+        object.__setattr__(self, "tip", _tip(self.tip))
+        object.__setattr__(self, "method", _check_method(self.method, self.target))
+        _check_resolution(self.tip, self.grid, self.loading.depth, self.method)
+        c = min(m.wave_speed for m in self.target.materials)
+        if self.loading.speed > 0.05 * c:
+            raise InputError(f"loading.speed = {self.loading.speed:g} m/s is not quasi-static"
+                             f"; valid: <= 5 % of the slowest wave speed, {0.05 * c:.4g} m/s")
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "kind": "indent", "method": self.method,
+                "target": self.target.to_dict(), "tip": self.tip.spec,
+                "loading": asdict(self.loading), "grid": asdict(self.grid)}
+
+
+@dataclass(frozen=True)
+class ParticleImpactSpec:
+    """A free rigid sphere of ``mass`` (kg) and radius ``tip.R`` hitting the target at
+    ``velocity`` (m/s, normal). The run ends when the sphere leaves the surface or after
+    ``duration`` (s; default three elastic Hertz contact times)."""
+
+    name: str
+    method: str
+    target: ParticleTarget
+    tip: Tip
+    mass: float
+    velocity: float
+    grid: Grid
+    duration: float | None = None
+    frames: int = 6
+
+    def __post_init__(self):
+        tip = _tip(self.tip)
+        if not isinstance(tip, Sphere):
+            raise InputError(f"tip = {tip.spec!r}: the impactor is a sphere")
+        object.__setattr__(self, "tip", tip)
+        object.__setattr__(self, "method", _check_method(self.method, self.target))
+        check_real("mass", self.mass, low=1e-20, high=1e3, unit="kg")
+        check_real("velocity", self.velocity, low=1e-6, high=1e3, unit="m/s")
+        _check_resolution(tip, self.grid, self.hertz_approach, self.method)
+        if self.duration is not None:
+            check_real("duration", self.duration, low=0.0, high=1.0, low_open=True, unit="s")
+        object.__setattr__(self, "frames", int(check_real("frames", self.frames,
+                                                          low=0, high=1000)))
+
+    @property
+    def hertz_approach(self) -> float:
+        """Elastic Hertz maximum approach on the top material, m (physics.md section 1)."""
+        E = self.target.reduced_modulus(0)
+        return (15 * self.mass * self.velocity**2 / (16 * E * math.sqrt(self.tip.R)))**0.4
+
+    @property
+    def end_time(self) -> float:
+        if self.duration is not None:
+            return self.duration
+        return 3 * 2.943275 * self.hertz_approach / self.velocity
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "kind": "impact", "method": self.method,
+                "target": self.target.to_dict(), "tip": self.tip.spec, "mass": self.mass,
+                "velocity": self.velocity, "duration": self.duration, "frames": self.frames,
+                "grid": asdict(self.grid)}
+
+
+# ---------------------------------------------------------------- input files
+
+
+def _num(x: float) -> str:
+    return f"{x:.10g}"
+
+
+def _u(value: float, dimension: str) -> str:
+    return _num(from_si(value, dimension, "particle"))
+
+
+def _clamp_min(a: str, b: str) -> str:
+    """min(a, b) as an equal-style formula (LAMMPS's min() takes no numbers)."""
+    return f"0.5*(({a})+({b})-abs(({a})-({b})))"
+
+
+def _block_lines(spec, n_types: int, top: float) -> list[str]:
+    """The lattice, the block region and a box reaching up to ``top`` (particle units):
+    the target's surface is z = 0 with a lattice point on the axis."""
+    g = spec.grid
+    dx = from_si(g.spacing, "length", "particle")
+    W = round(g.width / g.spacing) * dx
+    D = round(g.depth / g.spacing) * dx
+    lo = -0.5 * dx if g.quarter else -W - 0.5 * dx
+    xy = f"{_num(lo)} {_num(W + 0.5 * dx)} {_num(lo)} {_num(W + 0.5 * dx)}"
+    nx, ny, nz = g.counts()
+    return [
+        f"# ---- block: {nx} x {ny} x {nz} lattice points of spacing {g.spacing:g} m"
+        + (" (quarter model: symmetry planes x = 0 and y = 0)" if g.quarter else ""),
+        f"lattice sc {_num(dx)}",
+        f"region block block {xy} {_num(-D - 0.5 * dx)} {_num(0.5 * dx)} units box",
+        f"region world block {xy} {_num(-D - 0.5 * dx)} {_num(max(top, 0.5 * dx))} units box",
+        f"create_box {n_types} world",
+    ]
+
+
+def _weight_groups(grid: Grid, member: str) -> list[str]:
+    """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a quarter model the
+    particles on one symmetry plane own half a cell, those on the axis a quarter."""
+    if not grid.quarter:
+        return [f"group interior union {member}", "group plane empty", "group axis empty"]
+    dx = from_si(grid.spacing, "length", "particle")
+    h = _num(0.5 * dx)
+    return [
+        f"region xplane block INF {h} INF INF INF INF units box",
+        f"region yplane block INF INF INF {h} INF INF units box",
+        "group on_x region xplane",
+        "group on_y region yplane",
+        f"group axis_all intersect on_x on_y {member}",
+        "group axis union axis_all",
+        f"group plane_all union on_x on_y",
+        f"group plane_m intersect plane_all {member}",
+        "group plane subtract plane_m axis",
+        f"group interior subtract {member} plane axis",
+    ]
+
+
+def _indent_fix_lines(spec, K: float, geometry: str, scale: float = 1.0) -> list[str]:
+    """One ``fix indent`` per weight group (K times the weight) and the total load
+    ``v_load`` (mN, upward force on the indenter, times 4 in a quarter model). ``scale``
+    turns a fix's force into a force (the particle volume for PERI's force densities)."""
+    lines = []
+    terms = []
+    groups = (("interior", 1.0), ("plane", 0.5), ("axis", 0.25)) if spec.grid.quarter \
+        else (("interior", 1.0),)
+    for group, w in groups:
+        lines.append(f"fix ind_{group} {group} indent {_num(K * w / scale)} {geometry} "
+                     "units box")
+        terms.append(f"f_ind_{group}[3]")
+    mult = (4.0 if spec.grid.quarter else 1.0) * scale
+    lines.append(f"variable load equal {_num(mult)}*({'+'.join(terms)})")
+    return lines
+
+
+def _sphere_geometry(R: float, centre: str) -> str:
+    return f"sphere 0 0 {centre} {_num(R)}"
+
+
+def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
+    # fix indent needs radlo > 0: the apex is truncated at a radius of 1 % of a spacing
+    r0 = 0.01 * dx
+    r1 = r0 + height * math.tan(math.radians(tip.half_angle))
+    return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
+            f"v_{apex}_top")
+
+
+def _tlsph_material(m: ParticleMaterial) -> str:
+    mat = m.material
+    rho = from_si(m.density, "density", "particle")
+    E = from_si(mat.E, "pressure", "particle")
+    common = (f"*COMMON {_num(rho)} {_num(E)} {_num(mat.nu)} {TLSPH_Q1} {TLSPH_Q2} "
+              f"{TLSPH_HOURGLASS} 1.0")
+    if m.elastic:
+        strength = "*STRENGTH_LINEAR"
+    elif mat.n == 0.0:
+        strength = f"*STRENGTH_LINEAR_PLASTIC {_u(mat.sigma_y, 'pressure')} 0"
+    else:
+        A, B, N = johnson_cook_hardening(mat)
+        # no rate and no thermal term: C = 0 and the melting point far away
+        strength = (f"*JOHNSON_COOK {_u(A, 'pressure')} {_u(B, 'pressure')} {_num(N)} 0 1 "
+                    "0 1e30 1")
+    return f"{common} {strength} *EOS_LINEAR *END"
+
+
+def johnson_cook_hardening(mat: ElasticPlastic) -> tuple[float, float, float]:
+    """Johnson-Cook A + B eps_p^N (Pa, Pa, -) matching the power law
+    sigma_y (1 + E eps_p / sigma_y)^n (physics.md section 10) at A = sigma_y and at the
+    plastic strains `JC_STRAINS` (MACHDYN has no power-law hardening of that form)."""
+    sy, E, n = mat.sigma_y, mat.E, mat.n
+    e1, e2 = JC_STRAINS
+    d1, d2 = (sy * (1 + E * e / sy)**n - sy for e in (e1, e2))
+    N = math.log(d2 / d1) / math.log(e2 / e1)
+    return sy, d1 / e1**N, N
+
+
+def _header(spec, version: str) -> list[str]:
+    g = spec.grid
+    return [
+        f"# filmscale {version} particle model ({spec.method}): {spec.name}".replace("  ", " "),
+        f"# {g.n_particles} target particles, spacing {g.spacing:g} m",
+        "# units: LAMMPS 'si' carrying um, GPa, ns (mass pg, force mN, density pg/um^3);",
+        "#        filmscale.md.units.PARTICLE converts them",
+        f"# replay: lmp -in in.{spec.method}  (in this directory)",
+    ]
+
+
+def _impactor_top(spec, dx: float) -> float:
+    """Height of the box's top in an impact: above the cluster, which starts at the sphere
+    centre (particle units)."""
+    return from_si(spec.tip.R, "length", "particle") + 2.0 * dx
+
+
+def _impactor_lines(spec: ParticleImpactSpec, dx: float, create: str) -> list[str]:
+    """A 3 x 3 x 3 cluster, unbonded to the target, at the sphere centre's height above the
+    block's far corner (it never comes near the target): its height carries the sphere
+    centre, its mass the sphere's (a quarter in a quarter model)."""
+    g = spec.grid
+    W = round(g.width / g.spacing) * dx
+    x0 = W - dx
+    z0 = from_si(spec.tip.R, "length", "particle")
+    return [
+        "# ---- the impactor: an unbonded particle cluster carries the sphere's mass; its",
+        "#      height drives the indenter and the indenter's reaction drives it",
+        f"region imp block {_num(x0 - 1.5 * dx)} {_num(x0 + 1.5 * dx)} {_num(x0 - 1.5 * dx)} "
+        f"{_num(x0 + 1.5 * dx)} {_num(z0 - 1.5 * dx)} {_num(z0 + 1.5 * dx)} units box",
+        create,
+        "group imp region imp",
+    ]
+
+
+def _tlsph_input(spec, version: str) -> str:
+    impact = isinstance(spec, ParticleImpactSpec)
+    g = spec.grid
+    mat = spec.target.substrate
+    dx = from_si(g.spacing, "length", "particle")
+    D = round(g.depth / g.spacing) * dx
+    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = from_si(spec.target.reduced_modulus(), "pressure", "particle")
+    vol = dx**3
+    lines = [
+        *_header(spec, version),
+        "units si",
+        "dimension 3",
+        "boundary s s s    # TLSPH: periodic boundaries delete particles or blow up",
+        "atom_style smd",
+        "atom_modify map array",
+        "comm_modify vel yes",
+        "newton off",
+        f"neighbor {_num(0.5 * dx)} bin",
+        "neigh_modify every 10 delay 0 check yes",
+        *_block_lines(spec, 1, _impactor_top(spec, dx) if impact else 0.0),
+        "create_atoms 1 region block",
+        "group target type 1",
+        "set group target mol 1",
+    ]
+    if impact:
+        lines += _impactor_lines(spec, dx, "create_atoms 1 region imp")
+        lines += ["set group imp mol 2", "group target subtract all imp"]
+    lines += [
+        *_weight_groups(g, "target"),
+        f"set group all volume {_num(vol)}",
+        f"set group plane volume {_num(vol / 2)}",
+        f"set group axis volume {_num(vol / 4)}",
+        f"set group all smd/mass/density {_u(mat.density, 'density')}",
+        f"set group all diameter {_num(TLSPH_KERNEL * dx)}",
+        f"set group all smd/contact/radius {_num(0.5 * dx)}",
+        "group tlsph type 1    # the name MACHDYN requires",
+        "",
+        "# ---- material (SI values converted to um, GPa, ns)",
+        "pair_style smd/tlsph",
+        f"pair_coeff 1 1 {_tlsph_material(mat)}",
+        "",
+        "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
+        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        "group base_all region base",
+        "group base intersect base_all target",
+        "fix base base smd/setvel 0 0 0",
+    ]
+    if g.quarter:
+        lines += ["group sym_x intersect on_x target", "group sym_y intersect on_y target",
+                  "fix sym_x sym_x smd/setvel 0 NULL NULL",
+                  "fix sym_y sym_y smd/setvel NULL 0 NULL"]
+    lines += [
+        f"fix dtfix all smd/adjust_dt {CFL}",
+        "fix integration tlsph smd/integrate_tlsph",
+        "variable t equal f_dtfix    # simulated time (the timestep adapts)",
+        "compute stress all smd/tlsph/stress",
+        "compute ep all smd/plastic/strain",
+        "",
+    ]
+    K = K_FACTOR * E_star
+    if impact:
+        lines += _impact_driver(spec, dx, R, K)
+    else:
+        lines += _indent_driver(spec, dx, R, K, D)
+    lines += _run_lines(spec, dx, "c_stress[7] c_ep")
+    return _finish(spec, lines)
+
+
+def _finish(spec, lines: list[str]) -> str:
+    every = max(1, estimated_steps(spec) // 400)
+    return "\n".join(ln.replace("{every}", str(every)) for ln in lines) + "\n"
+
+
+def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
+                   D: float, scale: float = 1.0) -> list[str]:
+    p = spec.loading
+    v = from_si(p.speed, "velocity", "particle")
+    t1, t2, _ = (from_si(t, "time", "particle") for t in p.times)
+    down = _clamp_min("v_t", _num(t1))
+    up = f"0.5*((v_t-{_num(t2)})+abs(v_t-{_num(t2)}))"
+    lines = [
+        "# ---- displacement control: down at constant speed, hold, up",
+        f"variable depth equal {_num(v)}*({down})-{_num(v)}*({up})",
+    ]
+    if isinstance(spec.tip, Sphere):
+        lines.append(f"variable zc equal {_num(R)}-v_depth")
+        geometry = _sphere_geometry(R, "v_zc")
+    else:
+        height = D
+        lines += ["variable apex equal -v_depth", f"variable apex_top equal v_apex+{_num(height)}"]
+        geometry = _cone_geometry(spec.tip, "apex", height, dx)
+    lines += _indent_fix_lines(spec, K, geometry, scale)
+    lines += [
+        f"region apex sphere 0 0 0 {_num(0.25 * dx)} units box",
+        "group apex region apex",
+        "variable apex_z equal xcm(apex,z)    # the surface particle on the axis",
+        f'fix record all print {{every}} "$(v_t:%.10g) $(v_depth:%.10g) $(v_load:%.10g) '
+        f'$(v_apex_z:%.10g)" file {RECORD} screen no title "# {" ".join(INDENT_COLUMNS)}"',
+        "thermo_style custom step dt v_t v_depth v_load",
+        "thermo_modify flush yes",
+    ]
+    return lines
+
+
+def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
+                   scale: float = 1.0, imp_mass_scale: float = 1.0) -> list[str]:
+    m = from_si(spec.mass, "mass", "particle") / (4.0 if spec.grid.quarter else 1.0)
+    V = from_si(spec.velocity, "velocity", "particle")
+    return [
+        "# ---- the free sphere: touching the surface at t = 0, moving down at V",
+        "variable n_imp equal count(imp)",
+        f"variable m_imp equal {_num(m * imp_mass_scale)}/v_n_imp",
+        "set group imp mass ${m_imp}",
+        "variable z_imp0 equal $(xcm(imp,z))",
+        f"variable zc equal {_num(R)}+xcm(imp,z)-v_z_imp0",
+        f"variable approach equal {_num(R)}-v_zc",
+        f"velocity imp set 0 0 {_num(-V)} units box",
+        *_indent_fix_lines(spec, K, _sphere_geometry(R, "v_zc"), scale),
+        "# the reaction on the sphere, spread over the cluster (defined after the indenter",
+        "# fixes, so that it reads their force of the same step)",
+        f"variable push equal v_load/{_num(4.0 if spec.grid.quarter else 1.0)}/v_n_imp"
+        + (f"/{_num(scale)}" if scale != 1.0 else ""),
+        "fix push imp addforce 0 0 v_push",
+        "variable vz equal vcm(imp,z)",
+        f'fix record all print {{every}} "$(v_t:%.10g) $(v_approach:%.10g) $(v_load:%.10g) '
+        f'$(v_vz:%.10g)" file {RECORD} screen no title "# {" ".join(IMPACT_COLUMNS)}"',
+        "thermo_style custom step dt v_t v_approach v_load v_vz",
+        "thermo_modify flush yes",
+    ]
+
+
+def estimated_timestep(spec) -> float:
+    """The CFL timestep, s: CFL * kernel / wave speed for TLSPH (what ``smd/adjust_dt``
+    chooses, within about 30 %), or the fixed PERI step."""
+    c = max(m.wave_speed for m in spec.target.materials)
+    if spec.method == "tlsph":
+        return 1.3 * CFL * TLSPH_KERNEL * spec.grid.spacing / c
+    return PERI_DT_FACTOR * spec.grid.spacing / c
+
+
+#: PERI timestep in spacings over the wave speed (set after measurement; see peri input).
+PERI_DT_FACTOR = 0.2
+
+
+def estimated_steps(spec) -> int:
+    end = spec.loading.times[2] if isinstance(spec, ParticleIndentSpec) else spec.end_time
+    return max(1, math.ceil(end / estimated_timestep(spec)))
+
+
+def _run_lines(spec, dx: float, fields: str) -> list[str]:
+    """Record every ~1/400 of the run, snapshots ``frames`` times, stop at the end time
+    (a simulated time: the step count is a bound)."""
+    impact = isinstance(spec, ParticleImpactSpec)
+    steps = estimated_steps(spec)
+    frames = spec.frames if impact else spec.loading.frames
+    end = from_si(spec.end_time if impact else spec.loading.times[2], "time", "particle")
+    lines = [f"thermo {max(1, steps // 50)}"]
+    if frames:
+        lines.append(f"dump fields all custom {max(1, steps // frames)} fields.*.dump id type "
+                     f"mol x y z {fields}")
+        lines.append("dump_modify fields first yes")
+    lines.append(f"variable finished equal v_t>={_num(end)}")
+    if impact:
+        # the sphere has left: moving up with no contact force
+        lines.append("variable stop equal v_finished+(v_vz>0)*(v_load<=0)")
+    else:
+        lines.append("variable stop equal v_finished")
+    lines += [
+        "fix halt all halt 10 v_stop > 0.5 error continue message no",
+        f"run {3 * steps + 1000}",
+        f'print "finished $(v_t:%.10g)" file finished.txt screen no',
+    ]
+    return lines
+
+
+def input_text(spec, version: str = "") -> str:
+    """The complete LAMMPS input of ``spec`` (an indentation or an impact, either method)."""
+    if spec.method == "tlsph":
+        return _tlsph_input(spec, version)
+    return peri_input(spec, version)

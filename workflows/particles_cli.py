@@ -1,0 +1,91 @@
+"""`filmscale particles indent|impact`: the particle continuum models (SPH, peridynamics).
+
+The spec (or preset) is checked in full before LAMMPS starts; bad input exits with status 2
+and one line. The run shows a progress bar on a terminal; ``--json`` prints one object in SI.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+from filmscale.continuum.errors import InputError
+
+from .provenance import provenance
+
+
+def _spec(args):
+    from filmscale.md.particle_spec import load_spec, preset
+    if (args.spec is None) == (args.preset is None):
+        raise InputError("give a spec file or --preset NAME (one of them)")
+    if args.preset:
+        return preset(args.preset, args.kind, args.method)
+    return load_spec(args.spec, args.kind, args.method)
+
+
+def _clean(result: dict) -> dict:
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+            for k, v in result.items()}
+
+
+def cmd_particles(args) -> int:
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.particle_run import (analyze_impact, analyze_indent, run_particles,
+                                           write_particle_record)
+    from filmscale.md.particles import estimated_steps
+
+    spec = _spec(args)
+    engine = EngineOptions(np=args.np, omp_threads=1)
+    out = Path(args.out) if args.out else Path("md_runs") / f"particles-{spec.name}"
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out} is a file, not a folder")
+    total = estimated_steps(spec)
+    if not args.json:
+        print(f"{spec.name}: {spec.method}, {spec.grid.n_particles} particles, about {total} "
+              f"steps, {args.np} rank(s); run directory {out}", file=sys.stderr)
+
+    from tqdm import tqdm
+    bar = tqdm(total=total, unit="step", disable=None, file=sys.stderr)
+
+    def progress(step, _total):
+        bar.update(max(0, min(step, total) - bar.n))
+
+    try:
+        run = run_particles(spec, out, engine, progress=progress)
+    finally:
+        bar.close()
+    result = analyze_impact(run) if args.kind == "impact" else analyze_indent(run)
+    record = write_particle_record(run, result, provenance(
+        command="filmscale " + " ".join(sys.argv[1:])))
+    if args.json:
+        d = result.to_dict()
+        if args.kind == "impact":
+            d["h_max"] = d["delta_max"]
+        d["result"] = str(record)
+        print(json.dumps(_clean(d), allow_nan=False))
+    else:
+        print(result.summary())
+        print(f"record: {record}")
+    return 0
+
+
+def add_commands(sub) -> None:
+    """Register ``particles`` on the top-level subparsers."""
+    p = sub.add_parser("particles", help="SPH and peridynamics particle models in LAMMPS")
+    psub = p.add_subparsers(dest="particles_command", required=True)
+    for kind, text in (("indent", "quasi-static indentation (load, hold, unload)"),
+                       ("impact", "impact of a free rigid sphere")):
+        q = psub.add_parser(kind, help=text,
+                            description=f"Run a particle-model {text}, analyse it and write "
+                                        "the HDF5 record (particles.h5 in the run directory).")
+        q.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
+        q.add_argument("--preset", help="ci, quick or research instead of a spec file")
+        q.add_argument("--method", choices=("tlsph", "peri"),
+                       help="override the spec's method")
+        q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
+        q.add_argument("--out", metavar="DIR",
+                       help="run directory (default md_runs/particles-NAME)")
+        q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+        q.set_defaults(func=cmd_particles, kind=kind)

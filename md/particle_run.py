@@ -33,29 +33,33 @@ OPEN_FRACTION = 0.01
 
 @dataclass(frozen=True)
 class FieldSnapshot:
-    """One dump of the particle fields, SI: positions (m), von Mises stress (Pa), equivalent
-    plastic strain (zero for PERI, which is elastic here)."""
+    """One dump of the particle fields, SI: positions (m); for TLSPH the von Mises stress (Pa)
+    and the equivalent plastic strain, for PERI the bond damage (0 while elastic). Fields a
+    method does not give are None."""
 
     step: int
     ids: np.ndarray
-    mol: np.ndarray
     positions: np.ndarray
-    von_mises: np.ndarray
-    plastic_strain: np.ndarray
+    von_mises: np.ndarray | None
+    plastic_strain: np.ndarray | None
+    damage: np.ndarray | None
 
 
 def read_snapshot(path: Path | str) -> FieldSnapshot:
-    """A ``fields.STEP.dump`` text dump (id type mol x y z von_mises plastic_strain)."""
-    path = Path(path)
-    lines = path.read_text().splitlines()
+    """A ``fields.STEP.dump`` text dump, read by its column names."""
+    lines = Path(path).read_text().splitlines()
     step = int(lines[1])
     header = next(i for i, ln in enumerate(lines) if ln.startswith("ITEM: ATOMS"))
+    names = lines[header].split()[2:]
     data = np.loadtxt(lines[header + 1:], ndmin=2)
     data = data[np.argsort(data[:, 0])]
-    return FieldSnapshot(step=step, ids=data[:, 0].astype(int), mol=data[:, 2].astype(int),
-                         positions=to_si(data[:, 3:6], "length", "particle"),
-                         von_mises=to_si(data[:, 6], "pressure", "particle"),
-                         plastic_strain=data[:, 7].copy())
+    col = {name: data[:, k] for k, name in enumerate(names)}
+    xyz = np.column_stack([col["x"], col["y"], col["z"]])
+    return FieldSnapshot(
+        step=step, ids=col["id"].astype(int), positions=to_si(xyz, "length", "particle"),
+        von_mises=to_si(col["c_stress[7]"], "pressure", "particle")
+        if "c_stress[7]" in col else None,
+        plastic_strain=col.get("c_ep"), damage=col.get("c_damage"))
 
 
 @dataclass(frozen=True)

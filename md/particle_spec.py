@@ -88,6 +88,14 @@ PRESETS: dict[str, dict[str, dict]] = {
     },
 }
 
+#: The presets' blocks for ``--method peri``: full blocks (no symmetry planes), spacings whose
+#: horizon (3 dx) fits in the contact radius at 0.1 R (0.44 R).
+PERI_GRIDS = {
+    "ci": {"spacing": _R / 8, "width": _R, "depth": 1.5 * _R, "quarter": False},
+    "quick": {"spacing": _R / 10, "width": 1.5 * _R, "depth": 1.5 * _R, "quarter": False},
+    "research": {"spacing": _R / 14, "width": 2 * _R, "depth": 2 * _R, "quarter": False},
+}
+
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n", "density"}
 
 
@@ -178,4 +186,6 @@ def preset(name: str, kind: str, method: str | None = None):
     data = copy.deepcopy(PRESETS[kind][name])
     if method is not None:
         data["method"] = method
+    if data["method"] == "peri":
+        data["grid"].update(PERI_GRIDS[name])
     return spec_from_mapping(data, kind)

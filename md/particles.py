@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
-from filmscale.continuum.errors import InputError, check_choice, check_positive, check_real
+from filmscale.continuum.errors import InputError, check_choice, check_real
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.tips import Cone, Sphere, Tip, parse_tip
 from filmscale.md.units import from_si
@@ -205,11 +205,20 @@ def _check_resolution(tip: Tip, grid: Grid, depth: float, method: str):
                          f"contact radius and the depth); valid: >= {need:g} m")
 
 
-def _check_method(method: str, target: ParticleTarget) -> str:
+def _check_method(method: str, target: ParticleTarget, grid: Grid) -> str:
     method = check_choice("method", method, METHODS)
     if method == "tlsph" and target.layered:
         raise InputError("method = 'tlsph' cannot bond a film to a substrate (TLSPH bonds "
                          "one particle type per body); use method 'peri' for a layered target")
+    if method == "peri" and grid.quarter:
+        raise InputError("grid.quarter = true: the peridynamic model needs the full block "
+                         "(a symmetry plane cuts its bond families); set quarter = false")
+    if method == "peri" and target.layered:
+        off = [m.material.nu for m in target.materials if abs(m.material.nu - 0.25) > 0.03]
+        if off:
+            raise InputError(f"nu = {off[0]:g}: the bonded layered peridynamic model "
+                             "(peri/pmb) has Poisson's ratio 1/4; valid: nu in [0.22, 0.28] "
+                             "for every layer")
     if method == "peri" and not target.elastic:
         raise InputError("method = 'peri' models elastic targets only: peri/eps, its "
                          "elastic-plastic solid, returns NaN at the onset of yield in this "
@@ -257,7 +266,8 @@ class ParticleIndentSpec:
 
     def __post_init__(self):
         object.__setattr__(self, "tip", _tip(self.tip))
-        object.__setattr__(self, "method", _check_method(self.method, self.target))
+        object.__setattr__(self, "method", _check_method(self.method, self.target,
+                                                                self.grid))
         _check_resolution(self.tip, self.grid, self.loading.depth, self.method)
         c = min(m.wave_speed for m in self.target.materials)
         if self.loading.speed > 0.05 * c:
@@ -291,7 +301,8 @@ class ParticleImpactSpec:
         if not isinstance(tip, Sphere):
             raise InputError(f"tip = {tip.spec!r}: the impactor is a sphere")
         object.__setattr__(self, "tip", tip)
-        object.__setattr__(self, "method", _check_method(self.method, self.target))
+        object.__setattr__(self, "method", _check_method(self.method, self.target,
+                                                                self.grid))
         check_real("mass", self.mass, low=1e-20, high=1e3, unit="kg")
         check_real("velocity", self.velocity, low=1e-6, high=1e3, unit="m/s")
         _check_resolution(tip, self.grid, self.hertz_approach, self.method)
@@ -369,7 +380,7 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
         "group on_y region yplane",
         f"group axis_all intersect on_x on_y {member}",
         "group axis union axis_all",
-        f"group plane_all union on_x on_y",
+        "group plane_all union on_x on_y",
         f"group plane_m intersect plane_all {member}",
         "group plane subtract plane_m axis",
         f"group interior subtract {member} plane axis",
@@ -534,7 +545,7 @@ def _tlsph_input(spec, version: str) -> str:
         lines += _impact_driver(spec, dx, R, K)
     else:
         lines += _indent_driver(spec, dx, R, K, D)
-    lines += _run_lines(spec, dx, "c_stress[7] c_ep")
+    lines += _run_lines(spec, dx, "mol x y z c_stress[7] c_ep")
     return _finish(spec, lines)
 
 
@@ -610,8 +621,9 @@ def estimated_timestep(spec) -> float:
     return PERI_DT_FACTOR * spec.grid.spacing / c
 
 
-#: PERI timestep in spacings over the wave speed (set after measurement; see peri input).
-PERI_DT_FACTOR = 0.2
+#: PERI timestep (fixed; PERI has no adaptive step) in spacings over the P-wave speed: 0.2 and
+#: 0.4 give the same curve within 1 %; 0.8 loses the contact and 1.2 blows up (R/8 runs).
+PERI_DT_FACTOR = 0.25
 
 
 def estimated_steps(spec) -> int:
@@ -629,7 +641,7 @@ def _run_lines(spec, dx: float, fields: str) -> list[str]:
     lines = [f"thermo {max(1, steps // 50)}"]
     if frames:
         lines.append(f"dump fields all custom {max(1, steps // frames)} fields.*.dump id type "
-                     f"mol x y z {fields}")
+                     f"{fields}")
         lines.append("dump_modify fields first yes")
     lines.append(f"variable finished equal v_t>={_num(end)}")
     if impact:
@@ -640,7 +652,7 @@ def _run_lines(spec, dx: float, fields: str) -> list[str]:
     lines += [
         "fix halt all halt 10 v_stop > 0.5 error continue message no",
         f"run {3 * steps + 1000}",
-        f'print "finished $(v_t:%.10g)" file finished.txt screen no',
+        'print "finished $(v_t:%.10g)" file finished.txt screen no',
     ]
     return lines
 
@@ -650,3 +662,100 @@ def input_text(spec, version: str = "") -> str:
     if spec.method == "tlsph":
         return _tlsph_input(spec, version)
     return peri_input(spec, version)
+
+
+def _peri_coeff(m: ParticleMaterial, horizon: float) -> str:
+    """``K G horizon s00 alpha`` of peri/lps: bulk and shear modulus from E and nu; a critical
+    stretch s00 = 1 so that no bond breaks (the model is elastic)."""
+    E, nu = m.material.E, m.material.nu
+    K = E / (3 * (1 - 2 * nu))
+    G = E / (2 * (1 + nu))
+    return f"{_u(K, 'pressure')} {_u(G, 'pressure')} {_num(horizon)} 1.0 0.0"
+
+
+def peri_input(spec, version: str = "") -> str:
+    """The complete LAMMPS input of a peridynamic (peri/lps) indentation or impact.
+
+    PERI integrates force densities with rmass = density: ``fix indent``'s K is divided by
+    the particle volume V and its force multiplied by V (lammps.md, particle traps)."""
+    impact = isinstance(spec, ParticleImpactSpec)
+    g = spec.grid
+    dx = from_si(g.spacing, "length", "particle")
+    D = round(g.depth / g.spacing) * dx
+    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
+                 for m in spec.target.materials)
+    vol = dx**3
+    horizon = PERI_HORIZON * dx
+    mats = spec.target.materials
+    n_types = len(mats)
+    lines = [
+        *_header(spec, version),
+        "units si",
+        "dimension 3",
+        "boundary s s s",
+        "atom_style peri",
+        "atom_modify map array",
+        f"neighbor {_num(0.5 * dx)} bin    # the SI default skin (1 mm) would be everything",
+        "neigh_modify every 1 delay 0 check yes",
+        *_block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
+        f"create_atoms {n_types} region block",
+    ]
+    # layers top first: type k from the surface down to the k-th interface
+    top = 0.0
+    for k, (t, _) in enumerate(spec.target.films, start=1):
+        bottom = top - from_si(t, "length", "particle")
+        lines += [f"region layer{k} block INF INF INF INF {_num(bottom)} {_num(top + dx)} "
+                  "units box",
+                  f"set region layer{k} type {k}"]
+        top = bottom
+    lines += ["group target union all"]
+    if impact:
+        lines += _impactor_lines(spec, dx, f"create_atoms {n_types} region imp")
+        lines += ["group target subtract all imp"]
+    lines += [
+        *_weight_groups(g, "target"),
+        f"set group all volume {_num(vol)}",
+        "",
+        "# ---- materials (SI values converted to um, GPa, ns); rmass is the density",
+    ]
+    for k, m in enumerate(mats, start=1):
+        lines.append(f"set type {k} density {_u(m.density, 'density')}")
+    if n_types == 1:
+        lines += ["pair_style peri/lps", f"pair_coeff 1 1 {_peri_coeff(mats[0], horizon)}"]
+    else:
+        # peri/lps takes each particle's own type for a bond and ignores the cross
+        # coefficients, so bonds across an interface break Newton's third law; the bond-based
+        # peri/pmb has true cross springs (harmonic mean of the two bulk moduli)
+        lines.append("pair_style peri/pmb")
+        for i in range(1, n_types + 1):
+            for j in range(i, n_types + 1):
+                Ki = mats[i - 1].material.E / (3 * (1 - 2 * mats[i - 1].material.nu))
+                Kj = mats[j - 1].material.E / (3 * (1 - 2 * mats[j - 1].material.nu))
+                K = from_si(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
+                spring = 18 * K / (math.pi * horizon**4)
+                lines.append(f"pair_coeff {i} {j} {_num(spring)} {_num(horizon)} 1.0 0.0")
+    c = max(m.wave_speed for m in mats)
+    dt = from_si(PERI_DT_FACTOR * g.spacing / c, "time", "particle")
+    lines += [
+        "",
+        "# ---- rigid base; fixed timestep (PERI has no adaptive step)",
+        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        "group base_all region base",
+        "group base intersect base_all target",
+        "velocity all set 0 0 0",
+        "fix integration all nve",
+        "fix base base setforce 0 0 0",
+        f"timestep {_num(dt)}",
+        "variable t equal time",
+        "compute damage all damage/atom",
+        "",
+    ]
+    K = K_FACTOR * E_star
+    if impact:
+        lines += _impact_driver(spec, dx, R, K, scale=vol, imp_mass_scale=1.0 / vol)
+    else:
+        lines += _indent_driver(spec, dx, R, K, D, scale=vol)
+    # the snapshot carries the bond damage (0 while elastic); PERI has no stress compute
+    lines += _run_lines(spec, dx, "x y z c_damage")
+    return _finish(spec, lines)

@@ -1,0 +1,177 @@
+"""Speed against error of the particle models (filmscale.md.particles).
+
+Sweeps, each run printed with particles, steps, wall time and error:
+
+- ``spacing``: elastic TLSPH sphere indentation (R = 1 um, Al, 0.1 R deep, quarter model,
+  2 R x 2 R block) at spacings R/5 ... R/12.5. Error: rms relative difference of the
+  loading curve over 0.3-1 h_max from the closed-form Hertz load on the same finite block
+  (`block_hertz_force`, an independent reference), and P_max against plain Hertz.
+- ``rate``: elastic-plastic Al 6061-T6511 (Dao et al. 2001) at R/7.5, indenter speeds 100,
+  50, 25 m/s. Error against the Richardson extrapolation to zero speed (error linear in
+  speed: P_0 = 2 P(v/2) - P(v)).
+- ``symmetry``: the quarter model against the full block at R/7.5, same error measure.
+- ``impact``: elastic impact at the spacing sweep's settings against the Hertz closed forms.
+- ``dao``: Al 6061-T6511 and Al 7075-T651 under a 70.3 degree cone (Berkovich equivalent):
+  loading curvature C = P/h^2 against Dao's forward function and the measured C.
+
+Then the cheapest settings that reach 5 % and 2 % error. Run:
+``.venv/bin/python benchmarks/particles_convergence.py [--sweep spacing,rate,...]``
+(about 15 minutes for all on 2 cores).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum.curves import LOAD
+from filmscale.continuum.hertz import hertz_force
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.continuum.reverse import loading_curvature
+from filmscale.md.particle_run import (analyze_impact, block_hertz_force, run_particles)
+from filmscale.md.particle_spec import _hertz_mass
+from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
+                                    ParticleMaterial, ParticleTarget)
+
+R = 1e-6
+AL = ParticleMaterial(ElasticPlastic(70e9, 0.3, name="Al"), 2700.0)
+AL6061 = ParticleMaterial(ElasticPlastic(66.8e9, 0.33, 284e6, 0.08, "Al6061-T6511"), 2700.0)
+AL7075 = ParticleMaterial(ElasticPlastic(70.1e9, 0.33, 500e6, 0.122, "Al7075-T651"), 2810.0)
+#: measured Berkovich loading curvature of Al 6061-T6511 (mean of shared/data/dao2001/Al6061.csv)
+C_MEASURED_6061 = 27.443e9
+
+
+def loading(run):
+    curve = run.curve()
+    m = curve.segment == LOAD
+    return curve.h[m], curve.P[m]
+
+
+def rms_error(h, P, reference, h_max):
+    m = (h >= 0.3 * h_max) & (reference > 0)
+    return float(np.sqrt(np.mean((P[m] / reference[m] - 1.0)**2)))
+
+
+def indent(name, target, grid, speed, depth=0.1 * R, tip="sphere:1um", workdir=None):
+    spec = ParticleIndentSpec(name, "tlsph", target, tip, IndentLoading(depth, speed, frames=0),
+                              grid)
+    return run_particles(spec, Path(workdir) / name)
+
+
+def row(*cells):
+    print(" | ".join(str(c) for c in cells), flush=True)
+
+
+def spacing_sweep(workdir, table):
+    E = AL.material
+    print("\n## spacing (elastic, quarter model, 2R x 2R block, 50 m/s)")
+    row("R/dx", "particles", "steps", "wall s", "err vs block Hertz", "P_max/Hertz",
+        "P_max/block Hertz")
+    for q in (5, 7.5, 10, 12.5):
+        run = indent(f"spacing-{q}", ParticleTarget(AL), Grid(R / q, 2 * R, 2 * R), 50.0,
+                     workdir=workdir)
+        h, P = loading(run)
+        ref = block_hertz_force(h, R, E.E, E.nu, 2 * R)
+        err = rms_error(h, P, ref, h.max())
+        hertz = hertz_force(h.max(), R, E.plane_strain_modulus)
+        row(q, run.spec.grid.n_particles, run.steps, f"{run.wall_time:.1f}", f"{err:.2%}",
+            f"{P.max() / hertz:.3f}", f"{P.max() / ref[-1]:.3f}")
+        table.append((f"R/{q}, quarter, 50 m/s (elastic)", run.wall_time, err))
+
+
+def rate_sweep(workdir, table):
+    print("\n## rate (Al 6061-T6511, R/7.5, quarter model)")
+    runs = {}
+    for v in (100.0, 50.0, 25.0):
+        runs[v] = indent(f"rate-{v:g}", ParticleTarget(AL6061), Grid(R / 7.5, 2 * R, 2 * R), v,
+                         workdir=workdir)
+    grid_h = np.linspace(0.3, 1.0, 50) * 0.1 * R
+    curves = {v: np.interp(grid_h, *loading(r)) for v, r in runs.items()}
+    extrapolated = 2 * curves[25.0] - curves[50.0]
+    row("speed m/s", "particles", "steps", "wall s", "err vs v->0")
+    for v, r in runs.items():
+        err = float(np.sqrt(np.mean((curves[v] / extrapolated - 1)**2)))
+        row(v, r.spec.grid.n_particles, r.steps, f"{r.wall_time:.1f}", f"{err:.2%}")
+        table.append((f"R/7.5, quarter, {v:g} m/s (Al 6061, plastic)", r.wall_time, err))
+
+
+def symmetry_sweep(workdir, table):
+    print("\n## symmetry (elastic, R/7.5, 50 m/s)")
+    row("model", "particles", "steps", "wall s", "err vs block Hertz")
+    E = AL.material
+    for quarter in (True, False):
+        run = indent(f"sym-{quarter}", ParticleTarget(AL), Grid(R / 7.5, 2 * R, 2 * R, quarter),
+                     50.0, workdir=workdir)
+        h, P = loading(run)
+        err = rms_error(h, P, block_hertz_force(h, R, E.E, E.nu, 2 * R), h.max())
+        row("quarter" if quarter else "full", run.spec.grid.n_particles, run.steps,
+            f"{run.wall_time:.1f}", f"{err:.2%}")
+        table.append((f"R/7.5, {'quarter' if quarter else 'full'}, 50 m/s (elastic)",
+                      run.wall_time, err))
+
+
+def impact_sweep(workdir, table):
+    print("\n## impact (elastic, quarter model, 50 m/s, Hertz delta_max = 0.1 R)")
+    row("R/dx", "particles", "steps", "wall s", "delta_max/Hertz", "P_max/Hertz", "t_c/Hertz",
+        "restitution")
+    mass = _hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
+    for q in (5, 7.5, 10):
+        spec = ParticleImpactSpec(f"impact-{q}", "tlsph", ParticleTarget(AL), "sphere:1um", mass,
+                                  50.0, Grid(R / q, 2 * R, 2 * R), frames=0)
+        out = analyze_impact(run_particles(spec, Path(workdir) / spec.name))
+        row(q, out.particles, out.steps, f"{out.wall_time:.1f}",
+            f"{out.delta_max / out.hertz_delta_max:.3f}",
+            f"{out.P_max / out.hertz_force_max:.3f}",
+            f"{out.contact_time / out.hertz_contact_time:.3f}", f"{out.restitution:.3f}")
+
+
+def dao_sweep(workdir, table):
+    print("\n## Dao: 70.3 deg cone on Al alloys, quarter model, h_max = 4 dx")
+    row("alloy", "particles", "steps", "wall s", "C particles GPa", "C Dao forward GPa",
+        "C measured GPa")
+    h_max, dx = 0.4e-6, 0.1e-6
+    for mat in (AL6061, AL7075):
+        run = indent(f"dao-{mat.material.name}", ParticleTarget(mat),
+                     Grid(dx, 2.4e-6, 2.3e-6), 60.0, depth=h_max, tip="cone:70.3",
+                     workdir=workdir)
+        h, P = loading(run)
+        m = h >= 0.5 * h_max
+        C = float(np.sum(P[m] * h[m]**2) / np.sum(h[m]**4))    # least squares P = C h^2
+        e = mat.material
+        C_dao, _ = loading_curvature("berkovich", e.E, e.plane_strain_modulus, e.sigma_y, e.n)
+        measured = f"{C_MEASURED_6061 / 1e9:.1f}" if "6061" in e.name else "not in data"
+        row(e.name, run.spec.grid.n_particles, run.steps, f"{run.wall_time:.1f}",
+            f"{C / 1e9:.1f}", f"{float(C_dao) / 1e9:.1f}", measured)
+
+
+SWEEPS = {"spacing": spacing_sweep, "rate": rate_sweep, "symmetry": symmetry_sweep,
+          "impact": impact_sweep, "dao": dao_sweep}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sweep", default="spacing,rate,symmetry,impact",
+                        help=f"comma-separated, from {','.join(SWEEPS)}")
+    parser.add_argument("--workdir", help="keep the runs here (default: a temporary folder)")
+    args = parser.parse_args(argv)
+    table: list[tuple[str, float, float]] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = args.workdir or tmp
+        for name in args.sweep.split(","):
+            SWEEPS[name](workdir, table)
+    if table:
+        print("\n## cheapest settings by error")
+        for target in (0.05, 0.02):
+            ok = [t for t in table if t[2] <= target]
+            best = min(ok, key=lambda t: t[1]) if ok else None
+            print(f"<= {target:.0%}: " + (f"{best[0]} ({best[1]:.1f} s, {best[2]:.2%})"
+                                          if best else "none of these runs"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

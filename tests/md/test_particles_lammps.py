@@ -1,0 +1,91 @@
+"""Particle models run by LAMMPS (seconds each): elastic indentation and impact against the
+Hertz closed forms, the record, rerun without LAMMPS, and the peridynamic solid."""
+
+import h5py
+import numpy as np
+import pytest
+
+from filmscale.continuum.curves import LOAD
+from filmscale.continuum.hertz import hertz_force
+from filmscale.md.particle_run import (analyze_impact, analyze_indent, block_hertz_force,
+                                       read_snapshot, run_particles, write_particle_record)
+from filmscale.md.particle_spec import preset
+from filmscale.md.particles import Grid
+
+R = 1e-6
+
+
+def loading_error(run, base_depth):
+    """rms relative difference of the loading curve over 0.3-1 h_max from the Hertz load on
+    the finite block (`block_hertz_force`)."""
+    c = run.curve()
+    m = (c.segment == LOAD) & (c.h >= 0.3 * c.h.max())
+    mat = run.spec.target.substrate.material
+    ref = block_hertz_force(c.h[m], R, mat.E, mat.nu, base_depth)
+    return float(np.sqrt(np.mean((c.P[m] / ref - 1) ** 2)))
+
+
+@pytest.fixture(scope="module")
+def ci_indent(tmp_path_factory):
+    return run_particles(preset("ci", "indent"), tmp_path_factory.mktemp("ci_indent"))
+
+
+def test_ci_indentation_follows_hertz_on_the_block(ci_indent):
+    res = analyze_indent(ci_indent)
+    # ci is R/5: measured P_max 0.94 of the block's Hertz load and 13 % rms over the loading
+    # (lattice noise: rings of particles enter the contact one at a time); R/10 reaches 4.6 %
+    assert res.block_ratio == pytest.approx(1.0, abs=0.10)
+    assert loading_error(ci_indent, 2 * R) < 0.15
+    # the block is stiffer than a half-space: P_max / Hertz above 1 by the base's effect
+    assert 1.0 < res.hertz_ratio < 1.25
+    # elastic: the surface comes back (residual under 10 % of h_max)
+    assert res.residual_depth < 0.1 * res.h_max
+
+
+def test_ci_record_and_rerun_without_lammps(ci_indent, tmp_path):
+    res = analyze_indent(ci_indent)
+    path = write_particle_record(ci_indent, res, {"command": "test"})
+    with h5py.File(path, "r") as f:
+        assert f.attrs["format"] == "filmscale.md_particles/1"
+        assert "lammps_version" in f.attrs
+        assert f["result"].attrs["P_max"] == pytest.approx(res.P_max)
+        assert "in.tlsph" in f["inputs"]
+        np.testing.assert_allclose(f["curve/P"][()], ci_indent.load)
+    again = run_particles(ci_indent.spec, ci_indent.run_dir)     # finished: read back
+    np.testing.assert_array_equal(again.load, ci_indent.load)
+    snap = read_snapshot(ci_indent.snapshots[-1])
+    assert snap.von_mises is not None and np.all(np.isfinite(snap.von_mises))
+    assert snap.positions.shape == (ci_indent.spec.grid.n_particles, 3)
+
+
+def test_ci_elastic_impact_matches_hertz(tmp_path):
+    out = analyze_impact(run_particles(preset("ci", "impact"), tmp_path))
+    # measured: delta_max 0.985, t_c 0.962 of Hertz, e = 0.996 (energy conserved to 1 %)
+    assert out.separated
+    assert out.delta_max == pytest.approx(out.hertz_delta_max, rel=0.03)
+    assert out.contact_time == pytest.approx(out.hertz_contact_time, rel=0.06)
+    assert 0.97 < out.restitution < 1.01
+    # the block is stiffer than the half-space, so the force exceeds Hertz (measured 1.10)
+    assert 1.0 < out.P_max / out.hertz_force_max < 1.2
+
+
+def test_peri_ci_indentation_follows_hertz(tmp_path):
+    run = run_particles(preset("ci", "indent", "peri"), tmp_path)
+    res = analyze_indent(run)
+    # measured 1.12 at R/8: the horizon softens the free surface, the rigid base stiffens
+    assert res.hertz_ratio == pytest.approx(1.0, abs=0.15)
+    snap = read_snapshot(run.snapshots[-1])
+    assert snap.damage is not None and np.all(snap.damage == 0)   # s00 = 1: no bond breaks
+
+
+@pytest.mark.slow
+def test_converged_spacing_within_five_percent_of_hertz_on_the_block(tmp_path):
+    spec = preset("ci", "indent")
+    spec = type(spec)(**{**spec.__dict__, "grid": Grid(R / 10, 2 * R, 2 * R)})
+    run = run_particles(spec, tmp_path)
+    # measured 4.6 % rms over 0.3-1 h_max, P_max 0.963 of the block's Hertz load
+    assert loading_error(run, 2 * R) < 0.05
+    c = run.curve()
+    assert np.max(c.P) / block_hertz_force(c.h.max(), R, 70e9, 0.3, 2 * R) == \
+        pytest.approx(1.0, abs=0.05)
+    assert hertz_force(c.h.max(), R, 70e9 / 0.91) < np.max(c.P)

@@ -30,6 +30,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/impact_speed_vs_error.py
 	$(BIN)/python benchmarks/indentation_speed.py
 	$(BIN)/python benchmarks/md_overhead.py
+	$(BIN)/python benchmarks/particles_convergence.py
 
 clean:
 	rm -rf demo_output .pytest_cache

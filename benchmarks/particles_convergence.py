@@ -11,6 +11,7 @@ Sweeps, each run printed with particles, steps, wall time and error:
   speed: P_0 = 2 P(v/2) - P(v)).
 - ``symmetry``: the quarter model against the full block at R/7.5, same error measure.
 - ``impact``: elastic impact at the spacing sweep's settings against the Hertz closed forms.
+- ``plastic-impact``: elastic-perfectly plastic Al against the continuum impact model's laws.
 - ``dao``: Al 6061-T6511 and Al 7075-T651 under a 70.3 degree cone (Berkovich equivalent):
   loading curvature C = P/h^2 against Dao's forward function and the measured C.
 
@@ -129,6 +130,30 @@ def impact_sweep(workdir, table):
             f"{out.contact_time / out.hertz_contact_time:.3f}", f"{out.restitution:.3f}")
 
 
+def plastic_impact_sweep(workdir, table):
+    """Elastic-perfectly plastic Al (sigma_y = 0.3 GPa) hit at 50 m/s by the mass that would
+    reach 0.1 R elastically, against the continuum impact model on the same scene."""
+    from filmscale.continuum.contact_laws import contact_law
+    from filmscale.continuum.impact import ImpactModel
+
+    print("\n## plastic impact (Al, sigma_y = 0.3 GPa, 50 m/s) against the continuum model")
+    row("model", "particles", "steps", "wall s", "delta_max m", "restitution",
+        "residual m", "P_max N")
+    mass = _hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
+    mat = ParticleMaterial(ElasticPlastic(70e9, 0.3, 3e8, name="Al-pp"), 2700.0)
+    for q in (5, 7.5):
+        spec = ParticleImpactSpec(f"plastic-impact-{q}", "tlsph", ParticleTarget(mat),
+                                  "sphere:1um", mass, 50.0, Grid(R / q, 2 * R, 2 * R), frames=0)
+        out = analyze_impact(run_particles(spec, Path(workdir) / spec.name))
+        row(f"TLSPH R/{q}", out.particles, out.steps, f"{out.wall_time:.1f}",
+            f"{out.delta_max:.4g}", f"{out.restitution:.3f}", f"{out.residual_depth:.4g}",
+            f"{out.P_max:.4g}")
+    for law in ("komvopoulos-ye-continuous", "jackson-green", "thornton"):
+        r = ImpactModel(mat.material, contact_law(law)).maxima(50.0, R, mass).result()
+        row(law, "-", "-", "-", f"{r.delta_max:.4g}", f"{r.restitution:.3f}",
+            f"{r.residual_depth:.4g}", f"{r.force_max:.4g}")
+
+
 def dao_sweep(workdir, table):
     print("\n## Dao: 70.3 deg cone on Al alloys, quarter model, h_max = 4 dx")
     row("alloy", "particles", "steps", "wall s", "C particles GPa", "C Dao forward GPa",
@@ -149,12 +174,12 @@ def dao_sweep(workdir, table):
 
 
 SWEEPS = {"spacing": spacing_sweep, "rate": rate_sweep, "symmetry": symmetry_sweep,
-          "impact": impact_sweep, "dao": dao_sweep}
+          "impact": impact_sweep, "plastic-impact": plastic_impact_sweep, "dao": dao_sweep}
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--sweep", default="spacing,rate,symmetry,impact",
+    parser.add_argument("--sweep", default="spacing,rate,symmetry,impact,plastic-impact",
                         help=f"comma-separated, from {','.join(SWEEPS)}")
     parser.add_argument("--workdir", help="keep the runs here (default: a temporary folder)")
     args = parser.parse_args(argv)

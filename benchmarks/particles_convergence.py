@@ -34,7 +34,7 @@ from filmscale.continuum.hertz import hertz_force
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.continuum.reverse import loading_curvature
 from filmscale.md.particle_run import (analyze_impact, block_hertz_force, run_particles)
-from filmscale.md.particle_spec import _hertz_mass
+from filmscale.md.particle_spec import hertz_mass
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
 
@@ -119,7 +119,7 @@ def impact_sweep(workdir, table):
     print("\n## impact (elastic, quarter model, 50 m/s, Hertz delta_max = 0.1 R)")
     row("R/dx", "particles", "steps", "wall s", "delta_max/Hertz", "P_max/Hertz", "t_c/Hertz",
         "restitution")
-    mass = _hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
+    mass = hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
     for q in (5, 7.5, 10):
         spec = ParticleImpactSpec(f"impact-{q}", "tlsph", ParticleTarget(AL), "sphere:1um", mass,
                                   50.0, Grid(R / q, 2 * R, 2 * R), frames=0)
@@ -139,7 +139,7 @@ def plastic_impact_sweep(workdir, table):
     print("\n## plastic impact (Al, sigma_y = 0.3 GPa, 50 m/s) against the continuum model")
     row("model", "particles", "steps", "wall s", "delta_max m", "restitution",
         "residual m", "P_max N")
-    mass = _hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
+    mass = hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
     mat = ParticleMaterial(ElasticPlastic(70e9, 0.3, 3e8, name="Al-pp"), 2700.0)
     for q in (5, 7.5):
         spec = ParticleImpactSpec(f"plastic-impact-{q}", "tlsph", ParticleTarget(mat),
@@ -149,7 +149,8 @@ def plastic_impact_sweep(workdir, table):
             f"{out.delta_max:.4g}", f"{out.restitution:.3f}", f"{out.residual_depth:.4g}",
             f"{out.P_max:.4g}")
     for law in ("komvopoulos-ye-continuous", "jackson-green", "thornton"):
-        r = ImpactModel(mat.material, contact_law(law)).maxima(50.0, R, mass).result()
+        r = ImpactModel(ParticleTarget(mat).stack, contact_law(law)).maxima(50.0, R,
+                                                                           mass).result()
         row(law, "-", "-", "-", f"{r.delta_max:.4g}", f"{r.restitution:.3f}",
             f"{r.residual_depth:.4g}", f"{r.force_max:.4g}")
 

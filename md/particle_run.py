@@ -187,8 +187,15 @@ def block_hertz_force(delta, R: float, E: float, nu: float, base_depth: float):
     return P_new
 
 
+class _Figures:
+    """``to_dict`` of the result dataclasses below: their fields are plain scalars."""
+
+    def to_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
 @dataclass(frozen=True)
-class IndentResult:
+class IndentResult(_Figures):
     """Figures of a particle indentation, SI: the largest load and the largest indenter depth;
     ``hertz_ratio`` = P_max / Hertz load at h_max
     with the top material's E* (elastic targets; NaN otherwise); ``block_ratio`` the same
@@ -202,9 +209,6 @@ class IndentResult:
     particles: int
     steps: int
     wall_time: float
-
-    def to_dict(self) -> dict:
-        return dict(self.__dict__)
 
     def summary(self) -> str:
         return (f"P_max {self.P_max:.4g} N at h_max {self.h_max:.4g} m; residual depth "
@@ -240,7 +244,7 @@ def analyze_indent(run: ParticleRun) -> IndentResult:
 
 
 @dataclass(frozen=True)
-class ImpactOutcome:
+class ImpactOutcome(_Figures):
     """Figures of a particle impact, SI, beside the elastic Hertz closed forms on the top
     material (`elastic_impact`)."""
 
@@ -257,9 +261,6 @@ class ImpactOutcome:
     particles: int
     steps: int
     wall_time: float
-
-    def to_dict(self) -> dict:
-        return dict(self.__dict__)
 
     def summary(self) -> str:
         return (f"delta_max {self.delta_max:.4g} m (Hertz {self.hertz_delta_max:.4g}); "

@@ -50,8 +50,10 @@ _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
 _R = 1e-6
 
 
-def _hertz_mass(depth: float, velocity: float, material: dict, R: float = _R) -> float:
-    """Mass whose elastic Hertz impact at ``velocity`` reaches ``depth`` (physics.md 1)."""
+def hertz_mass(depth: float, velocity: float, material: dict, R: float = _R) -> float:
+    """Mass (kg) of a rigid sphere of radius R (m) whose elastic Hertz impact at ``velocity``
+    (m/s) reaches the approach ``depth`` (m) on ``material`` (E, nu in Pa): the inverse of
+    delta_max = (15 m V^2 / (16 E* R^(1/2)))^(2/5) (physics.md section 1)."""
     E_star = material["E"] / (1 - material["nu"]**2)
     return depth**2.5 * 16 * E_star * math.sqrt(R) / (15 * velocity**2)
 
@@ -75,16 +77,16 @@ PRESETS: dict[str, dict[str, dict]] = {
         "ci": {"name": "ci-elastic-impact", "method": "tlsph", "tip": "sphere:1um",
                "target": {"substrate": dict(_AL)},
                "grid": {"spacing": _R / 5, "width": 2 * _R, "depth": 2 * _R},
-               "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0,
+               "impact": {"mass": hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0,
                           "frames": 3}},
         "quick": {"name": "quick-elastic-impact", "method": "tlsph", "tip": "sphere:1um",
                   "target": {"substrate": dict(_AL)},
                   "grid": {"spacing": _R / 7.5, "width": 2 * _R, "depth": 2 * _R},
-                  "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0}},
+                  "impact": {"mass": hertz_mass(0.1 * _R, 50.0, _AL), "velocity": 50.0}},
         "research": {"name": "research-elastic-impact", "method": "tlsph",
                      "tip": "sphere:1um", "target": {"substrate": dict(_AL)},
                      "grid": {"spacing": _R / 12, "width": 3 * _R, "depth": 3 * _R},
-                     "impact": {"mass": _hertz_mass(0.1 * _R, 50.0, _AL),
+                     "impact": {"mass": hertz_mass(0.1 * _R, 50.0, _AL),
                                 "velocity": 50.0}},
     },
 }

@@ -125,10 +125,6 @@ class ParticleTarget:
         """E* = E/(1 - nu^2) of one material (default the substrate) against a rigid tip."""
         return self.materials[layer].material.plane_strain_modulus
 
-    @property
-    def top(self) -> ParticleMaterial:
-        return self.materials[0]
-
     def to_dict(self) -> dict:
         def mat(m: ParticleMaterial) -> dict:
             d = asdict(m.material)
@@ -157,6 +153,11 @@ class Grid:
                 raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
                                  f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
         object.__setattr__(self, "quarter", bool(self.quarter))
+
+    @property
+    def symmetry_factor(self) -> float:
+        """How many copies of the modelled block make the whole: 4 for a quarter model."""
+        return 4.0 if self.quarter else 1.0
 
     def counts(self) -> tuple[int, int, int]:
         """Lattice points along x (and y) and z."""
@@ -378,8 +379,7 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
         f"region yplane block INF INF INF {h} INF INF units box",
         "group on_x region xplane",
         "group on_y region yplane",
-        f"group axis_all intersect on_x on_y {member}",
-        "group axis union axis_all",
+        f"group axis intersect on_x on_y {member}",
         "group plane_all union on_x on_y",
         f"group plane_m intersect plane_all {member}",
         "group plane subtract plane_m axis",
@@ -399,7 +399,7 @@ def _indent_fix_lines(spec, K: float, geometry: str, scale: float = 1.0) -> list
         lines.append(f"fix ind_{group} {group} indent {_num(K * w / scale)} {geometry} "
                      "units box")
         terms.append(f"f_ind_{group}[3]")
-    mult = (4.0 if spec.grid.quarter else 1.0) * scale
+    mult = spec.grid.symmetry_factor * scale
     lines.append(f"variable load equal {_num(mult)}*({'+'.join(terms)})")
     return lines
 
@@ -435,9 +435,10 @@ def _tlsph_material(m: ParticleMaterial) -> str:
 
 
 def johnson_cook_hardening(mat: ElasticPlastic) -> tuple[float, float, float]:
-    """Johnson-Cook A + B eps_p^N (Pa, Pa, -) matching the power law
-    sigma_y (1 + E eps_p / sigma_y)^n (physics.md section 10) at A = sigma_y and at the
-    plastic strains `JC_STRAINS` (MACHDYN has no power-law hardening of that form)."""
+    """Johnson-Cook strain hardening A + B eps_p^N (Pa, Pa, -; Johnson & Cook 1983, without
+    its rate and thermal factors) matching the power law sigma_y (1 + E eps_p / sigma_y)^n
+    (Dao et al. 2001; physics.md section 10) at A = sigma_y and at the plastic strains
+    `JC_STRAINS` (MACHDYN has no power-law hardening of that form)."""
     sy, E, n = mat.sigma_y, mat.E, mat.n
     e1, e2 = JC_STRAINS
     d1, d2 = (sy * (1 + E * e / sy)**n - sy for e in (e1, e2))
@@ -545,7 +546,7 @@ def _tlsph_input(spec, version: str) -> str:
         lines += _impact_driver(spec, dx, R, K)
     else:
         lines += _indent_driver(spec, dx, R, K, D)
-    lines += _run_lines(spec, dx, "mol x y z c_stress[7] c_ep")
+    lines += _run_lines(spec, "mol x y z c_stress[7] c_ep")
     return _finish(spec, lines)
 
 
@@ -587,7 +588,7 @@ def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: floa
 
 def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
                    scale: float = 1.0, imp_mass_scale: float = 1.0) -> list[str]:
-    m = from_si(spec.mass, "mass", "particle") / (4.0 if spec.grid.quarter else 1.0)
+    m = from_si(spec.mass, "mass", "particle") / spec.grid.symmetry_factor
     V = from_si(spec.velocity, "velocity", "particle")
     return [
         "# ---- the free sphere: touching the surface at t = 0, moving down at V",
@@ -601,7 +602,7 @@ def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
         *_indent_fix_lines(spec, K, _sphere_geometry(R, "v_zc"), scale),
         "# the reaction on the sphere, spread over the cluster (defined after the indenter",
         "# fixes, so that it reads their force of the same step)",
-        f"variable push equal v_load/{_num(4.0 if spec.grid.quarter else 1.0)}/v_n_imp"
+        f"variable push equal v_load/{_num(spec.grid.symmetry_factor)}/v_n_imp"
         + (f"/{_num(scale)}" if scale != 1.0 else ""),
         "fix push imp addforce 0 0 v_push",
         "variable vz equal vcm(imp,z)",
@@ -613,11 +614,12 @@ def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
 
 
 def estimated_timestep(spec) -> float:
-    """The CFL timestep, s: CFL * kernel / wave speed for TLSPH (what ``smd/adjust_dt``
-    chooses, within about 30 %), or the fixed PERI step."""
+    """The CFL timestep, s: CFL * kernel / P-wave speed for TLSPH (``smd/adjust_dt`` chose
+    0.75-1.0 of it in the R/8 runs), or the fixed PERI step. It sizes the record interval,
+    the snapshot interval and the step bound of the run, not the integration."""
     c = max(m.wave_speed for m in spec.target.materials)
     if spec.method == "tlsph":
-        return 1.3 * CFL * TLSPH_KERNEL * spec.grid.spacing / c
+        return CFL * TLSPH_KERNEL * spec.grid.spacing / c
     return PERI_DT_FACTOR * spec.grid.spacing / c
 
 
@@ -631,7 +633,7 @@ def estimated_steps(spec) -> int:
     return max(1, math.ceil(end / estimated_timestep(spec)))
 
 
-def _run_lines(spec, dx: float, fields: str) -> list[str]:
+def _run_lines(spec, fields: str) -> list[str]:
     """Record every ~1/400 of the run, snapshots ``frames`` times, stop at the end time
     (a simulated time: the step count is a bound)."""
     impact = isinstance(spec, ParticleImpactSpec)
@@ -757,5 +759,5 @@ def peri_input(spec, version: str = "") -> str:
     else:
         lines += _indent_driver(spec, dx, R, K, D, scale=vol)
     # the snapshot carries the bond damage (0 while elastic); PERI has no stress compute
-    lines += _run_lines(spec, dx, "x y z c_damage")
+    lines += _run_lines(spec, "x y z c_damage")
     return _finish(spec, lines)

@@ -703,12 +703,14 @@ def peri_input(spec, version: str = "") -> str:
         *_block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
         f"create_atoms {n_types} region block",
     ]
-    # layers top first: type k from the surface down to the k-th interface
+    # layers top first: type k for the lattice planes between the (k-1)-th and k-th
+    # interface; bounds half a spacing off the planes, so a film of thickness t gets
+    # round(t/dx) planes
     top = 0.0
     for k, (t, _) in enumerate(spec.target.films, start=1):
         bottom = top - from_si(t, "length", "particle")
-        lines += [f"region layer{k} block INF INF INF INF {_num(bottom)} {_num(top + dx)} "
-                  "units box",
+        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
+                  f"{_num(top + 0.5 * dx)} units box",
                   f"set region layer{k} type {k}"]
         top = bottom
     lines += ["group target union all"]

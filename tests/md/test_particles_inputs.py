@@ -209,3 +209,23 @@ def test_layered_peri_uses_bond_springs_with_true_cross_terms():
                     grid=Grid(R / 8, R, 1.5 * R, quarter=False))
     with pytest.raises(InputError, match="grid.quarter"):
         indent_spec(method="peri", grid=Grid(R / 8, R, 1.5 * R))
+
+
+def test_each_film_gets_its_thickness_in_lattice_planes():
+    """Replay the input's `set region layerK type K` in order over the lattice planes
+    z = -j dx: films of 0.25 and 0.5 um at dx = R/8 get 2 and 4 planes, the substrate the
+    rest (type 3, from create_atoms)."""
+    sub = ParticleMaterial(ElasticPlastic(70e9, 0.25, name="sub"), 2700.0)
+    film = ParticleMaterial(ElasticPlastic(200e9, 0.25, name="film"), 2700.0)
+    spec = indent_spec(method="peri", target=ParticleTarget(sub, ((0.25e-6, film),
+                                                                  (0.5e-6, sub))),
+                       grid=Grid(R / 8, R, 1.5 * R, quarter=False))
+    dx = 1 / 8
+    planes = -dx * np.arange(13)
+    types = np.full(planes.size, 3)
+    for line in input_text(spec).splitlines():
+        if line.startswith("region layer"):
+            k = int(line.split()[1].removeprefix("layer"))
+            lo, hi = map(float, line.split()[7:9])
+            types[(planes >= lo) & (planes <= hi)] = k
+    assert list(types) == [1] * 2 + [2] * 4 + [3] * 7

@@ -9,9 +9,14 @@ Sweeps, each run printed with particles, steps, wall time and error:
 - ``rate``: elastic-plastic Al 6061-T6511 (Dao et al. 2001) at R/7.5, indenter speeds 100,
   50, 25 m/s. Error against the Richardson extrapolation to zero speed (error linear in
   speed: P_0 = 2 P(v/2) - P(v)).
-- ``symmetry``: the quarter model against the full block at R/7.5, same error measure.
+- ``symmetry``: the quarter model against the full block at R/5, R/7.5 and R/10, same error
+  measure; cost also as particle-steps, which other processes on the machine do not change.
 - ``impact``: elastic impact at the spacing sweep's settings against the Hertz closed forms.
 - ``plastic-impact``: elastic-perfectly plastic Al against the continuum impact model's laws.
+- ``layered``: peridynamic (peri/pmb) indentation of a stiff film (E = 200 GPa, 0.4 um) on
+  E = 70 GPa at R/10, divided by the same model's homogeneous E = 70 GPa block (which takes
+  out PMB's own softness and the finite block), against the Gao weighting of the continuum
+  package: P_layered/P_homogeneous against E_p,eff(a = sqrt(R h))/E_p,substrate.
 - ``dao``: Al 6061-T6511 and Al 7075-T651 under a 70.3 degree cone (Berkovich equivalent):
   loading curvature C = P/h^2 against Dao's forward function and the measured C.
 
@@ -101,18 +106,21 @@ def rate_sweep(workdir, table):
 
 
 def symmetry_sweep(workdir, table):
-    print("\n## symmetry (elastic, R/7.5, 50 m/s)")
-    row("model", "particles", "steps", "wall s", "err vs block Hertz")
+    print("\n## symmetry (elastic, 50 m/s, quarter model against the full 4R x 4R block)")
+    row("model", "R/dx", "particles", "steps", "particle-steps", "wall s", "err vs block Hertz")
     E = AL.material
     for quarter in (True, False):
-        run = indent(f"sym-{quarter}", ParticleTarget(AL), Grid(R / 7.5, 2 * R, 2 * R, quarter),
-                     50.0, workdir=workdir)
-        h, P = loading(run)
-        err = rms_error(h, P, block_hertz_force(h, R, E.E, E.nu, 2 * R), h.max())
-        row("quarter" if quarter else "full", run.spec.grid.n_particles, run.steps,
-            f"{run.wall_time:.1f}", f"{err:.2%}")
-        table.append((f"R/7.5, {'quarter' if quarter else 'full'}, 50 m/s (elastic)",
-                      run.wall_time, err))
+        for q in (5, 7.5, 10):
+            name = f"{'quarter' if quarter else 'full'}-{q}"
+            run = indent(f"sym-{name}", ParticleTarget(AL), Grid(R / q, 2 * R, 2 * R, quarter),
+                         50.0, workdir=workdir)
+            h, P = loading(run)
+            err = rms_error(h, P, block_hertz_force(h, R, E.E, E.nu, 2 * R), h.max())
+            n = run.spec.grid.n_particles
+            row("quarter" if quarter else "full", q, n, run.steps, f"{n * run.steps:.3g}",
+                f"{run.wall_time:.1f}", f"{err:.2%}")
+            table.append((f"R/{q}, {'quarter' if quarter else 'full'}, 50 m/s (elastic)",
+                          run.wall_time, err))
 
 
 def impact_sweep(workdir, table):
@@ -156,26 +164,60 @@ def plastic_impact_sweep(workdir, table):
 
 
 def dao_sweep(workdir, table):
-    print("\n## Dao: 70.3 deg cone on Al alloys, quarter model, h_max = 4 dx")
-    row("alloy", "particles", "steps", "wall s", "C particles GPa", "C Dao forward GPa",
-        "C measured GPa")
+    """C at 60 and 30 m/s and its extrapolation to zero speed (the rate sweep found the
+    plastic loading error linear in speed)."""
+    print("\n## Dao: 70.3 deg cone on Al alloys, quarter model, h_max = 4 dx = 0.4 um")
+    row("alloy", "particles", "steps", "wall s", "C 60 m/s GPa", "C 30 m/s GPa",
+        "C v->0 GPa", "C Dao forward GPa", "C measured GPa")
     h_max, dx = 0.4e-6, 0.1e-6
     for mat in (AL6061, AL7075):
-        run = indent(f"dao-{mat.material.name}", ParticleTarget(mat),
-                     Grid(dx, 2.4e-6, 2.3e-6), 60.0, depth=h_max, tip="cone:70.3",
-                     workdir=workdir)
-        h, P = loading(run)
-        m = h >= 0.5 * h_max
-        C = float(np.sum(P[m] * h[m]**2) / np.sum(h[m]**4))    # least squares P = C h^2
+        C, steps, wall = {}, 0, 0.0
+        for v in (60.0, 30.0):
+            run = indent(f"dao-{mat.material.name}-{v:g}", ParticleTarget(mat),
+                         Grid(dx, 2.4e-6, 2.3e-6), v, depth=h_max, tip="cone:70.3",
+                         workdir=workdir)
+            h, P = loading(run)
+            m = h >= 0.5 * h_max
+            C[v] = float(np.sum(P[m] * h[m]**2) / np.sum(h[m]**4))   # least squares P = C h^2
+            steps, wall = steps + run.steps, wall + run.wall_time
         e = mat.material
         C_dao, _ = loading_curvature("berkovich", e.E, e.plane_strain_modulus, e.sigma_y, e.n)
         measured = f"{C_MEASURED_6061 / 1e9:.1f}" if "6061" in e.name else "not in data"
-        row(e.name, run.spec.grid.n_particles, run.steps, f"{run.wall_time:.1f}",
-            f"{C / 1e9:.1f}", f"{float(C_dao) / 1e9:.1f}", measured)
+        row(e.name, run.spec.grid.n_particles, steps, f"{wall:.1f}", f"{C[60.0] / 1e9:.1f}",
+            f"{C[30.0] / 1e9:.1f}", f"{(2 * C[30.0] - C[60.0]) / 1e9:.1f}",
+            f"{float(C_dao) / 1e9:.1f}", measured)
+
+
+def layered_sweep(workdir, table):
+    from filmscale.continuum.profiles import StackProfile
+
+    print("\n## layered PERI (film 0.4 um, E 200 GPa on 70 GPa, nu 0.25, R/10, full block)")
+    sub = ParticleMaterial(ElasticPlastic(70e9, 0.25, name="sub70"), 2700.0)
+    film = ParticleMaterial(ElasticPlastic(200e9, 0.25, name="film200"), 2700.0)
+    grid = Grid(R / 10, R, 1.5 * R, quarter=False)
+    runs = {}
+    for name, target in (("homogeneous", ParticleTarget(sub, ((0.4e-6, sub),))),
+                         ("layered", ParticleTarget(sub, ((0.4e-6, film),)))):
+        spec = ParticleIndentSpec(f"layered-{name}", "peri", target, "sphere:1um",
+                                  IndentLoading(0.15 * R, 50.0, frames=0), grid)
+        runs[name] = run_particles(spec, Path(workdir) / spec.name)
+    depths = np.array([0.04, 0.06, 0.08, 0.10, 0.12, 0.15]) * R
+    P = {k: np.interp(depths, *loading(r)) for k, r in runs.items()}
+    target = runs["layered"].spec.target
+    gao = StackProfile(target.stack).properties(depths, R)[0] / sub.material.plane_strain_modulus
+    row("h/R", "a/t", "P_homog/Hertz", "P_layered/P_homog", "Gao E_eff/E_sub", "difference")
+    E_p = sub.material.plane_strain_modulus
+    for h, ph, pl, g in zip(depths, P["homogeneous"], P["layered"], gao):
+        ratio = pl / ph
+        row(f"{h / R:.2f}", f"{np.sqrt(R * h) / 0.4e-6:.2f}", f"{ph / hertz_force(h, R, E_p):.3f}",
+            f"{ratio:.3f}", f"{g:.3f}", f"{ratio / g - 1:+.1%}")
+    row("wall s", *(f"{r.wall_time:.1f}" for r in runs.values()),
+        "particles", runs["layered"].spec.grid.n_particles)
 
 
 SWEEPS = {"spacing": spacing_sweep, "rate": rate_sweep, "symmetry": symmetry_sweep,
-          "impact": impact_sweep, "plastic-impact": plastic_impact_sweep, "dao": dao_sweep}
+          "impact": impact_sweep, "plastic-impact": plastic_impact_sweep, "dao": dao_sweep,
+          "layered": layered_sweep}
 
 
 def main(argv=None) -> int:

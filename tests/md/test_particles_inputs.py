@@ -110,6 +110,10 @@ def test_impact_input_drives_the_sphere_by_the_reaction():
     assert "variable push equal v_load/4/v_n_imp" in text
     assert text.index("fix ind_axis") < text.index("fix push")   # reads the current force
     assert "velocity imp set 0 0 -0.05 units box" in text
+    # the cluster is a rigid carrier outside TLSPH: its own type, no pair forces, plain nve
+    assert "create_atoms 2 region imp" in text
+    assert "pair_coeff 1 2 none" in text and "pair_coeff 2 2 none" in text
+    assert "fix impactor imp nve" in text and "group tlsph type 1" in text
 
 
 def test_johnson_cook_matches_the_power_law_at_its_strains():

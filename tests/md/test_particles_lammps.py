@@ -89,3 +89,15 @@ def test_converged_spacing_within_five_percent_of_hertz_on_the_block(tmp_path):
     assert np.max(c.P) / block_hertz_force(c.h.max(), R, 70e9, 0.3, 2 * R) == \
         pytest.approx(1.0, abs=0.05)
     assert hertz_force(c.h.max(), R, 70e9 / 0.91) < np.max(c.P)
+
+
+@pytest.mark.slow
+def test_fine_elastic_impact_keeps_its_energy(tmp_path):
+    """R/10 (about 2.5 min): an elastic impact must give e = 1. Before the impactor cluster
+    was taken out of TLSPH, its particles failed at this spacing and e fell to 0.878."""
+    spec = preset("ci", "impact")
+    spec = type(spec)(**{**spec.__dict__, "grid": Grid(R / 10, 2 * R, 2 * R)})
+    out = analyze_impact(run_particles(spec, tmp_path))
+    # measured 0.997; delta_max 0.959 and t_c 0.950 of Hertz (block and penalty compliance)
+    assert 0.97 <= out.restitution <= 1.01
+    assert out.delta_max / out.hertz_delta_max == pytest.approx(1.0, abs=0.06)

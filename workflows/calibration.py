@@ -1,0 +1,318 @@
+"""Constitutive parameters of one layer (E, sigma_y, n) from load-displacement curves.
+
+Three routes, each with an uncertainty and a verdict on what the data can identify:
+
+- `calibrate_sphere`: spherical indentation (MD, particle model or measured). The loading
+  curves of all given tips are fitted together by weighted least squares to the sphere
+  contact law of the continuum package (Hertz below first yield, the elastic-plastic law
+  beyond), unknowns ln E* and ln sigma_y. Uncertainty: the least-squares covariance
+  s^2 (J^T J)^-1 with s^2 the residual variance. sigma_y counts as identified only when the
+  elastic-plastic fit beats Hertz alone by more than the noise (F test at 95 %); otherwise
+  the data give a lower bound (first yield at the deepest point). The contact
+  laws are elastic-perfectly plastic, so n is never identifiable from a sphere.
+- `calibrate_sharp`: Berkovich or 70.3 degree cone curves through the reverse analysis of
+  Dao et al. (2001) (`filmscale.continuum.reverse`): E*, sigma_y and n. One curve:
+  Monte Carlo over the input uncertainties (C from its own least-squares fit, dP/dh and
+  W_p/W_t from the stated relative errors); several curves: the indent-to-indent scatter.
+- `size_effect`: Nix-Gao H(h) = H0 sqrt(1 + h*/h) (Nix & Gao 1998) over curves at several
+  depths or tips, so that nanometre (MD) and micrometre properties are one depth profile.
+
+Units: SI throughout (m, N, Pa).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import f as f_dist
+
+from filmscale.continuum.contact_laws import ContactLaw, contact_law
+from filmscale.continuum.curves import LOAD, LoadDisplacementCurve
+from filmscale.continuum.errors import InputError, check_real
+from filmscale.continuum.indentation import NixGaoFit, hertz_fit, nix_gao_fit, oliver_pharr
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_reverse, dao_reverse_repeated
+from filmscale.continuum.tips import Sphere, parse_tip
+
+#: relative standard deviation above which a fitted parameter is reported as not identified
+IDENTIFIABLE_RSD = 0.3
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A calibrated value with one standard deviation (NaN when the data do not bound it)."""
+
+    value: float
+    std: float
+    unit: str
+    identified: bool
+    reason: str = ""      #: why not identified, or how the value was fixed
+
+    def text(self) -> str:
+        std = "" if math.isnan(self.std) else f" +- {self.std:.3g}"
+        tag = "" if self.identified else f"  [not identified: {self.reason}]"
+        return f"{self.value:.4g}{std} {self.unit}".rstrip() + tag
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """E, sigma_y and n of one layer, the fit's quality and where they came from."""
+
+    layer: str
+    route: str                      #: "sphere" or "sharp"
+    E: Parameter
+    sigma_y: Parameter
+    n: Parameter
+    nu: float                       #: Poisson ratio assumed (not fitted)
+    uncertainty: str                #: how the standard deviations were obtained
+    rms: float                      #: rms misfit / largest load (sphere) or NaN (sharp)
+    points: int                     #: load points (sphere) or curves (sharp) used
+    sources: tuple[str, ...]
+    model: str                      #: contact law or reverse-analysis method
+    warnings: tuple[str, ...] = ()
+    fitted_curves: tuple = field(default=(), repr=False, compare=False)
+
+    def material(self) -> ElasticPlastic:
+        """The calibrated layer as the continuum package's material."""
+        sigma_y = self.sigma_y.value if self.sigma_y.identified else math.inf
+        return ElasticPlastic(self.E.value, self.nu, sigma_y, self.n.value, self.layer)
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d.pop("fitted_curves")
+        return d
+
+    def summary(self) -> str:
+        lines = [f"Calibration of {self.layer} ({self.route}: {self.model}; "
+                 f"uncertainty: {self.uncertainty})",
+                 f"  E       = {self.E.text()}",
+                 f"  sigma_y = {self.sigma_y.text()}",
+                 f"  n       = {self.n.text()}",
+                 f"  nu      = {self.nu:g} (assumed)"]
+        if not math.isnan(self.rms):
+            lines.append(f"  fit: rms misfit {self.rms:.2%} of the largest load over "
+                         f"{self.points} points")
+        lines += [f"  warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+def _E_from_reduced(E_star, nu, indenter: ElasticPlastic | None) -> float:
+    """Young's modulus from the reduced modulus against a rigid or elastic indenter."""
+    compliance = 0.0 if indenter is None else indenter.compliance
+    inv = 1.0 / E_star - compliance
+    return (1.0 - nu**2) / inv if inv > 0 else math.nan
+
+
+def _sphere_radius(curve: LoadDisplacementCurve, R) -> float:
+    if R is not None:
+        return check_real("R", R, low=0.0, low_open=True, high=1.0, unit="m")
+    tip = parse_tip(curve.indenter) if curve.indenter else None
+    if not isinstance(tip, Sphere):
+        raise InputError(f"curve {curve.meta.get('source', '')!r} has indenter "
+                         f"{curve.indenter!r}: give R (m) for a spherical calibration")
+    return tip.R
+
+
+def _loading_points(curve: LoadDisplacementCurve) -> tuple[np.ndarray, np.ndarray]:
+    c = curve.finite()
+    part = c.loading()
+    h, P, seg = c.h[part], c.P[part], c.segment[part]
+    keep = (seg == LOAD) & (h > 0) & (P > 0)
+    if keep.sum() < 3:
+        raise InputError(f"curve {c.meta.get('source', '')!r} has {int(keep.sum())} loading "
+                         "points with h > 0 and P > 0; a calibration needs at least 3")
+    return h[keep], P[keep]
+
+
+def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
+                     law: str | ContactLaw = "komvopoulos-ye-continuous",
+                     indenter: ElasticPlastic | None = None, n: float = 0.0) -> Calibration:
+    """E and sigma_y of a homogeneous layer from spherical loading curves.
+
+    Parameters
+    ----------
+    curves : LoadDisplacementCurve or sequence of them
+        Loading (and optionally unloading) of spherical tips, h = approach (m), P (N).
+    nu : float
+        The layer's Poisson ratio (assumed: a sphere's loading does not separate E and nu).
+    R : float or sequence, optional
+        Tip radius of each curve, m; default from each curve's ``indenter`` (``sphere:...``).
+    law : str or ContactLaw
+        Sphere contact law used as the forward model beyond first yield.
+    indenter : ElasticPlastic, optional
+        An elastic indenter (None: rigid, as the MD and particle tips are).
+    n : float
+        The hardening exponent reported (not identifiable from an elastic-perfectly plastic
+        sphere law); default 0.
+    """
+    curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
+    if not curves:
+        raise InputError("calibrate_sphere needs at least one curve")
+    nu = check_real("nu", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
+    radii = R if isinstance(R, (list, tuple, np.ndarray)) else [R] * len(curves)
+    if len(radii) != len(curves):
+        raise InputError(f"R has {len(radii)} values for {len(curves)} curves")
+    law = contact_law(law) if isinstance(law, str) else law
+    data = []
+    for c, r in zip(curves, radii):
+        h, P = _loading_points(c)
+        data.append((h, P, _sphere_radius(c, r), float(P.max())))
+
+    # starting point: Hertz on the first third of each curve's load, then yield at the
+    # largest mean pressure divided by the law's hardness factor
+    E0 = np.median([hertz_fit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)),
+                              R=r, P_limit=0.3 * Pm).E_r for h, P, r, Pm in data])
+    pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in data)
+    sy0 = pm / law.hardness_factor
+
+    def forces(theta):
+        E_star, sigma_y = np.exp(theta)
+        return [law.contact(h, r, E_star, sigma_y, nu).force for h, P, r, Pm in data]
+
+    def residuals(theta):
+        return np.concatenate([(F - P) / Pm for F, (h, P, r, Pm) in zip(forces(theta), data)])
+
+    N = sum(h.size for h, *_ in data)
+    elastic_sy = 1e3 * E0            # so high that nothing yields: the Hertz branch
+
+    def elastic_residuals(lnE):
+        return residuals(np.array([lnE[0], math.log(elastic_sy)]))
+
+    efit = least_squares(elastic_residuals, [math.log(E0)], diff_step=1e-6, xtol=1e-12,
+                         ftol=1e-12)
+    fit = least_squares(residuals, [efit.x[0], math.log(sy0)], diff_step=1e-6, xtol=1e-12,
+                        ftol=1e-12)
+    ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
+    E_star, sigma_y = np.exp(fit.x)
+    reaches_yield = any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu)
+                        for h, _, r, _ in data)
+    # sigma_y counts as seen when the elastic-plastic fit beats Hertz alone by more than
+    # noise: F test of the extra parameter at 95 % (F(1, N - 2) above its 0.95 quantile)
+    F = (ssr_el - ssr) / max(ssr / max(N - 2, 1), 1e-300)
+    yielded = reaches_yield and F > f_dist.ppf(0.95, 1, max(N - 2, 1))
+    warnings = []
+    if yielded:
+        cov = ssr / max(N - 2, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
+        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        delta_y = max(_yield_approach(law, r, E_star, sigma_y, nu) for _, _, r, _ in data)
+        if max(h.max() for h, *_ in data) < 3 * delta_y:
+            warnings.append(f"the deepest point is under 3 x the first-yield approach "
+                            f"({delta_y:.3g} m): sigma_y rests on the early elastic-plastic "
+                            "range")
+        sy_identified = std_lnS < IDENTIFIABLE_RSD
+        sy_reason = ("" if sy_identified else
+                     f"relative uncertainty {std_lnS:.0%} above {IDENTIFIABLE_RSD:.0%}")
+    else:
+        # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
+        # (first yield exactly at the deepest point)
+        fit, ssr = efit, ssr_el
+        E_star = float(np.exp(efit.x[0]))
+        std_lnE = math.sqrt(ssr / max(N - 1, 1) / float((efit.jac.T @ efit.jac)[0, 0]))
+        sigma_y = min(_yield_lower_bound(law, h.max(), r, E_star, nu) for h, _, r, _ in data)
+        std_lnS, sy_identified = math.nan, False
+        sy_reason = "no curve passes first yield beyond noise; the value is a lower bound"
+        warnings.append(f"sigma_y not identified: {sy_reason}")
+    E = _E_from_reduced(E_star, nu, indenter)
+    dE = E**2 / ((1 - nu**2) * E_star) * std_lnE      # dE/dE* times the std of E*
+    rms = math.sqrt(ssr / N)
+    fitted = tuple((h, P, f) for (h, P, _, _), f in zip(data, forces(
+        np.log([E_star, sigma_y if yielded else elastic_sy]))))
+    return Calibration(
+        layer=layer, route="sphere",
+        E=Parameter(float(E), float(dE), "Pa", bool(std_lnE < IDENTIFIABLE_RSD)),
+        sigma_y=Parameter(float(sigma_y), float(sigma_y * std_lnS), "Pa", bool(sy_identified),
+                          sy_reason),
+        n=Parameter(float(n), math.nan, "", False,
+                    f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"),
+        nu=nu, uncertainty="least-squares covariance s^2 (J^T J)^-1",
+        rms=rms, points=N,
+        sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
+        model=law.name, warnings=tuple(warnings), fitted_curves=fitted)
+
+
+def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:
+    """The approach of first yield, m."""
+    return float(law.first_yield(R, E_star, sigma_y, nu).approach)
+
+
+def _yield_lower_bound(law: ContactLaw, delta_max, R, E_star, nu) -> float:
+    """The sigma_y at which first yield falls exactly at the deepest point: any larger
+    sigma_y leaves the whole curve elastic."""
+    lo, hi = 1e-6 * E_star, E_star
+    for _ in range(200):
+        mid = math.sqrt(lo * hi)
+        if _yield_approach(law, R, E_star, mid, nu) < delta_max:
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-10:
+            break
+    return math.sqrt(lo * hi)
+
+
+def sharp_inputs(curve: LoadDisplacementCurve, tip="berkovich"):
+    """(C, C_std, dP/dh, W_p/W_t, h_m) of one sharp-tip curve: C by least squares of
+    P = C h^2 over the loading with h >= h_m/2 (C_std its standard error), the rest from
+    the Oliver-Pharr analysis of the unloading."""
+    op = oliver_pharr(curve, tip)
+    if not op.ok:
+        raise InputError(f"curve {curve.meta.get('source', '')!r}: {op.message}")
+    h, P = _loading_points(curve)
+    m = h >= 0.5 * op.h_max
+    x = h[m]**2
+    C = float(P[m] @ x / (x @ x))
+    r = P[m] - C * x
+    C_std = math.sqrt(float(r @ r) / max(m.sum() - 1, 1) / float(x @ x))
+    return C, C_std, op.S, op.W_p / op.W_t, op.h_max
+
+
+def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
+                    E_i: float = E_I_DAO, nu_i: float = NU_I_DAO, dPdh_rsd: float = 0.05,
+                    WpWt_std: float = 0.01, samples: int = 2000, seed: int = 0) -> Calibration:
+    """E, sigma_y and n from Berkovich (or 70.3 degree cone) curves by Dao's reverse
+    analysis. One curve: Monte Carlo with C's own standard error, a relative error
+    ``dPdh_rsd`` of the unloading slope and an absolute error ``WpWt_std`` of W_p/W_t
+    (typical of Oliver-Pharr fits; state yours). Several curves: their scatter.
+    ``E_i = math.inf`` for the rigid tips of MD and particle runs."""
+    curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
+    if not curves:
+        raise InputError("calibrate_sharp needs at least one curve")
+    inputs = np.array([sharp_inputs(c, tip) for c in curves])
+    C, C_std, S, W, hm = inputs.T
+    if len(curves) == 1:
+        r = dao_reverse(C[0], S[0], W[0], hm[0], tip=tip, nu=nu, E_i=E_i, nu_i=nu_i,
+                        C_std=C_std[0], dPdh_std=dPdh_rsd * S[0], WpWt_std=WpWt_std,
+                        samples=samples, seed=seed)
+        how = (f"Monte Carlo ({samples} draws): C standard error, dP/dh +-{dPdh_rsd:.0%}, "
+               f"W_p/W_t +-{WpWt_std:g}")
+    else:
+        r = dao_reverse_repeated(C, S, W, hm, tip=tip, nu=nu, E_i=E_i, nu_i=nu_i)
+        how = f"scatter of {len(curves)} curves (1 standard deviation)"
+
+    def param(value, std, unit):
+        ok = math.isfinite(std) and std < IDENTIFIABLE_RSD * max(abs(value), 1e-300)
+        return Parameter(float(value), float(std), unit, ok,
+                         "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}")
+
+    n_std_ok = math.isfinite(r.n_std) and r.n_std < 0.1
+    return Calibration(
+        layer=layer, route="sharp", E=param(r.E, r.E_std, "Pa"),
+        sigma_y=param(r.sigma_y, r.sigma_y_std, "Pa"),
+        n=Parameter(float(r.n), float(r.n_std), "", n_std_ok,
+                    "" if n_std_ok else "standard deviation above 0.1"),
+        nu=nu, uncertainty=how, rms=math.nan, points=len(curves),
+        sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
+        model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings)
+
+
+def size_effect(curves, tip="berkovich") -> NixGaoFit:
+    """Nix-Gao fit of the Oliver-Pharr hardness of curves at several maximum depths."""
+    results = [oliver_pharr(c, tip) for c in curves]
+    ok = [r for r in results if r.ok]
+    if len(ok) < 3:
+        raise InputError(f"a size-effect fit needs at least 3 analysable curves at different "
+                         f"depths, got {len(ok)} of {len(results)}")
+    return nix_gao_fit([r.h_c for r in ok], [r.H for r in ok])

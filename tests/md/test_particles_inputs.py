@@ -98,6 +98,9 @@ def test_quarter_model_weights_and_load_in_input():
     full = input_text(indent_spec(grid=Grid(R / 5, 2 * R, 2 * R, quarter=False)))
     assert "variable load equal 1*(f_ind_interior[3])" in full
     assert "smd/setvel 0 NULL NULL" not in full
+    # halts at the end, or once the unloading tip has left: 0.1 um at 50 m/s = 2 ns down,
+    # no hold, so unloading starts at t = 2 ns
+    assert "variable stop equal v_finished+(v_t>2)*(v_load<=0)" in text
 
 
 def test_impact_input_drives_the_sphere_by_the_reaction():

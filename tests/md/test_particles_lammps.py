@@ -1,6 +1,8 @@
 """Particle models run by LAMMPS (seconds each): elastic indentation and impact against the
 Hertz closed forms, the record, rerun without LAMMPS, and the peridynamic solid."""
 
+import json
+
 import h5py
 import numpy as np
 import pytest
@@ -71,6 +73,9 @@ def test_ci_elastic_impact_matches_hertz(tmp_path):
 
 def test_peri_ci_indentation_follows_hertz(tmp_path):
     run = run_particles(preset("ci", "indent", "peri"), tmp_path)
+    # in a process of its own: after other LAMMPS runs in this process peri/lps was not
+    # reproducible (1 of 4 repeats off by 12 %)
+    assert json.loads((tmp_path / "state.json").read_text())["engine"]["mode"] == "mpirun"
     res = analyze_indent(run)
     # measured 1.12 at R/8: the horizon softens the free surface, the rigid base stiffens
     assert res.hertz_ratio == pytest.approx(1.0, abs=0.15)
@@ -101,3 +106,32 @@ def test_fine_elastic_impact_keeps_its_energy(tmp_path):
     # measured 0.997; delta_max 0.959 and t_c 0.950 of Hertz (block and penalty compliance)
     assert 0.97 <= out.restitution <= 1.01
     assert out.delta_max / out.hertz_delta_max == pytest.approx(1.0, abs=0.06)
+
+
+def test_plastic_indentation_stops_at_separation_with_the_crater_residual(tmp_path):
+    """Elastic-perfectly plastic Al (sigma_y 0.3 GPa) at R/5: the run halts once the
+    unloading tip leaves the surface, well before the scheduled end, and the residual depth
+    matches the crater model (Johnson 1985, section 11.5: Hertzian recovery from the run's
+    own P_max over the Komvopoulos-Ye contact area at h_max) within 0.1 h_max: the area is
+    the continuum law's, not the particles' (measured 93.5 nm against 85.8 nm at h_max
+    100 nm, 0.077 h_max apart, at R/5)."""
+    from dataclasses import replace
+
+    from filmscale.continuum.contact_laws import contact_law
+    from filmscale.continuum.materials import ElasticPlastic
+    from filmscale.continuum.restitution import unload
+    from filmscale.md.particles import ParticleMaterial, ParticleTarget
+
+    mat = ElasticPlastic(70e9, 0.3, 3e8, name="Al-pp")
+    spec = replace(preset("ci", "indent"), target=ParticleTarget(ParticleMaterial(mat, 2700.)))
+    run = run_particles(spec, tmp_path)
+    res = analyze_indent(run)
+    assert run.time[-1] < 0.9 * spec.loading.times[2]
+    assert run.load[-1] <= 0.0
+    E_star = mat.plane_strain_modulus
+    area = contact_law("komvopoulos-ye-continuous").contact(
+        res.h_max, R, E_star, mat.sigma_y, mat.nu).area
+    crater = unload("crater", delta_max=res.h_max, force_max=res.P_max, area_max=area,
+                    E_star=E_star, R=R, yield_approach=0.0)
+    assert res.residual_depth == pytest.approx(float(crater.residual_depth),
+                                               abs=0.1 * res.h_max)

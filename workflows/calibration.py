@@ -76,9 +76,11 @@ class Calibration:
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:
-        """The calibrated layer as the continuum package's material."""
-        sigma_y = self.sigma_y.value if self.sigma_y.identified else math.inf
-        return ElasticPlastic(self.E.value, self.nu, sigma_y, self.n.value, self.layer)
+        """The calibrated layer as the continuum package's material. A sigma_y that the
+        data only bound from below enters as that bound: the layer yields no later than
+        the data allow (the conservative side for damage)."""
+        return ElasticPlastic(self.E.value, self.nu, self.sigma_y.value, self.n.value,
+                              self.layer)
 
     def to_dict(self) -> dict:
         d = asdict(self)

@@ -23,7 +23,7 @@ from filmscale.continuum.io import atomic_path
 from filmscale.md.engine import LammpsError, LammpsUnavailable
 from filmscale.potentials import PotentialError
 
-from . import md_cli, particles_cli
+from . import md_cli, particles_cli, pipeline_cli
 from .scene import MapSpec, Scene, load_scene
 
 
@@ -446,6 +446,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_indent_reverse)
     md_cli.add_commands(sub)
     particles_cli.add_commands(sub)
+    pipeline_cli.add_commands(sub)
     return parser
 
 

@@ -171,12 +171,21 @@ def _numbers(where: str, value) -> np.ndarray:
     return np.array([check_real(f"{where}[{i}]", v) for i, v in enumerate(value)])
 
 
-def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
-    """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
+def read_toml(text: str, source: str) -> dict:
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(f"scene {source} is not valid TOML: {err}") from None
+
+
+def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
+    """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
+    return scene_from_data(read_toml(text, source), text, source, base)
+
+
+def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
+                    base: Path | None = None) -> Scene:
+    """Validate a scene already read from TOML (``text`` is kept for provenance)."""
     base = Path(".") if base is None else base
     _check_keys("scene", data, _TOP)
 

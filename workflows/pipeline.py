@@ -1,0 +1,520 @@
+"""The pipeline that links the scales: scene -> plan -> run units -> one HDF5 result.
+
+A pipeline scene is an impact scene (`workflows.scene`, docs/scenes.md) plus:
+
+- ``[target.layers.calibrate]`` on a layer: where its E and sigma_y come from when the scene
+  does not give them: ``md = "quick"`` (an MD preset) or ``md = "film.toml"`` (an MD spec
+  file), with ``np`` MPI ranks. The layer still states ``nu`` (a sphere's loading does not
+  separate E and nu).
+- ``[outputs]``: ``want`` = any of maxima, history, map, restitution, residual_damage,
+  tangential; ``tolerance`` (relative) for the planner's choices.
+- ``impactor.friction`` and ``impactor.angle`` (degrees from the normal).
+
+`plan_scene` chooses the models (rules below) and says why, with an estimated error and a
+cost timed on this machine; `run_scene` executes the plan. Every run unit (an MD indentation,
+a calibration, the impact evaluation) lives in ``STORE/<kind>-<hash>``, the hash taken over
+its complete inputs and the code version, so a rerun reuses finished units and an interrupted
+scene resumes where it stopped (an MD unit from its last restart file). Units are written
+atomically; the scene's result file too.
+
+Planner rules (physics.md; benchmarks/impact_speed_vs_error.py):
+1. MD runs only for layers whose E or sigma_y is missing.
+2. Normal impact only with friction below 0.3, a normal approach and no tangential output;
+   anything else is refused (filmscale has no oblique impact model).
+3. The films are modelled (Gao-weighted profile) only where skipping them changes the
+   maxima by more than the tolerance at the scene's extreme points; otherwise the substrate
+   alone, with that change reported as the error of skipping them.
+4. The closed-form Hertz impact where no point yields; otherwise the elastic-plastic law.
+5. The fast maxima path (energy quadrature) unless time histories are asked for.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum import ImpactModel, contact_law
+from filmscale.continuum.errors import InputError, check_choice, check_real
+from filmscale.continuum.io import atomic_h5, atomic_path, read_text
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.continuum.profiles import StackProfile
+
+from .calibration import Calibration, calibrate_sphere
+from .provenance import provenance
+from .scene import Scene, read_toml, scene_from_data
+
+OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
+FRICTION_LIMIT = 0.3
+RESULT_FORMAT = "filmscale.scene_result/1"
+#: MD throughput measured for the quick preset (14 336 atoms x 5 500 steps in 184 s on
+#: 2 ranks, README), atom-steps per second per rank: the cost estimate of an MD unit
+MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
+
+
+@dataclass(frozen=True)
+class CalibrationSource:
+    """A layer to calibrate from an MD indentation."""
+
+    layer: int
+    name: str
+    md: str              #: MD preset name or spec file
+    np: int = 1
+
+    def spec(self, base: Path):
+        from filmscale.md.spec import PRESETS, load_spec, preset
+        return preset(self.md) if self.md in PRESETS else load_spec(base / self.md)
+
+
+@dataclass(frozen=True)
+class PipelineScene:
+    """A parsed pipeline scene: the impact scene's data (layers to calibrate lack E and
+    sigma_y until `completed`), the calibration sources and the outputs wanted."""
+
+    data: dict
+    text: str
+    source: str
+    base: Path
+    calibrations: tuple[CalibrationSource, ...]
+    outputs: frozenset
+    tolerance: float
+    friction: float
+    angle: float
+
+    def completed(self, materials: dict[int, ElasticPlastic]) -> Scene:
+        """The impact scene with each calibrated layer's E and sigma_y filled in."""
+        data = copy.deepcopy(self.data)
+        for k, mat in materials.items():
+            layer = data["target"]["layers"][k]
+            layer.setdefault("E", mat.E)
+            layer.setdefault("sigma_y", mat.sigma_y)
+        return scene_from_data(data, self.text, self.source, self.base)
+
+
+def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
+                   ) -> PipelineScene:
+    """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
+    base = Path(".") if base is None else base
+    data = read_toml(text, source)
+    outputs = data.pop("outputs", {})
+    if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
+        raise InputError("[outputs] takes want (a list) and tolerance; got "
+                         f"{sorted(outputs) if isinstance(outputs, dict) else outputs!r}")
+    want = outputs.get("want", ["maxima"])
+    if not isinstance(want, list) or not want:
+        raise InputError(f"outputs.want must be a list from {', '.join(OUTPUTS)}; got {want!r}")
+    for i, w in enumerate(want):
+        check_choice(f"outputs.want[{i}]", w, OUTPUTS)
+    tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=1e-6,
+                           high=0.5)
+    imp = data.get("impactor", {})
+    friction = check_real("impactor.friction", imp.pop("friction", 0.0), low=0.0, high=10.0)
+    angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
+                       high_open=True, unit="degrees")
+    sources = []
+    layers = data.get("target", {}).get("layers", [])
+    for k, layer in enumerate(layers if isinstance(layers, list) else []):
+        if not isinstance(layer, dict) or "calibrate" not in layer:
+            continue
+        where = f"target.layers[{k}].calibrate"
+        cal = layer.pop("calibrate")
+        if not isinstance(cal, dict) or set(cal) - {"md", "np"} or "md" not in cal:
+            raise InputError(f"{where} takes md (an MD preset name or spec file) and np; "
+                             f"got {cal!r}")
+        np_ = cal.get("np", 1)
+        if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
+            raise InputError(f"{where}.np = {np_!r} must be an integer in [1, 4096]")
+        if "E" in layer and "sigma_y" in layer:
+            continue            # given properties win: no MD run (rule 1)
+        src = CalibrationSource(k, str(layer.get("name", f"layer {k}")), str(cal["md"]), np_)
+        src.spec(base)          # the spec's own checks, before any work
+        sources.append(src)
+    pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
+                             tolerance, friction, angle)
+    placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in sources}
+    pipeline.completed(placeholder)     # every other key checked now
+    return pipeline
+
+
+def load_pipeline(path) -> PipelineScene:
+    path = Path(path)
+    return parse_pipeline(read_text(path, "scene"), str(path), path.parent)
+
+
+# ---------------------------------------------------------------- the plan
+
+@dataclass(frozen=True)
+class Step:
+    """One model of the plan: what runs, why it was chosen, its error and cost."""
+
+    name: str
+    model: str
+    reason: str
+    error: str
+    cost_s: float
+
+
+@dataclass(frozen=True)
+class Plan:
+    steps: tuple[Step, ...]
+    decisions: dict = field(default_factory=dict)   #: target, law, path, points
+
+    def text(self) -> str:
+        lines = []
+        for i, s in enumerate(self.steps, 1):
+            cost = f"{s.cost_s:.3g} s" if math.isfinite(s.cost_s) else "after calibration"
+            lines += [f"{i}. {s.name}: {s.model}", f"   why:   {s.reason}",
+                      f"   error: {s.error}", f"   cost:  {cost}"]
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
+
+
+def _md_step(src: CalibrationSource, base: Path) -> Step:
+    spec = src.spec(base)
+    atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
+    cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np)
+    return Step(f"calibrate {src.name}",
+                f"MD indentation ({src.md}: {atoms} atoms, {steps} steps, {src.np} rank(s)) "
+                "then a sphere calibration (least squares to the contact law)",
+                "the layer's E and sigma_y are not given (rule 1)",
+                "the fit's own standard deviations, reported with the calibration",
+                cost)
+
+
+def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
+    """The (V, R) points a decision must hold at: the scene's impact, and for a map its
+    four corners."""
+    V, R = [scene.impactor.velocity], [scene.impactor.radius]
+    if "map" in outputs:
+        v_axis, r_axis = scene.map.axes()
+        for v in (v_axis[0], v_axis[-1]):
+            for r in (r_axis[0], r_axis[-1]):
+                V.append(v)
+                R.append(r)
+    return np.array(V), np.array(R)
+
+
+def _timed(fn):
+    start = time.perf_counter()
+    value = fn()
+    return value, time.perf_counter() - start
+
+
+def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
+                angle: float = 0.0) -> Plan:
+    """Rules 2-5 on a complete scene."""
+    if friction >= FRICTION_LIMIT or angle > 0 or "tangential" in outputs:
+        raise InputError(
+            f"impactor.friction = {friction:g}, impactor.angle = {angle:g} deg, outputs "
+            f"{sorted(outputs)}: filmscale models normal impact only (friction below "
+            f"{FRICTION_LIMIT}, angle 0, no tangential output); an oblique model is not built")
+    steps = [Step("direction", "normal impact",
+                  f"friction {friction:g} < {FRICTION_LIMIT}, normal approach, no tangential "
+                  "output (rule 2)", "tangential traction neglected", 0.0)]
+    V, R = _points(scene, outputs)
+    m = scene.impactor.mass
+    law = scene.law
+    mat = scene.impactor.material
+    layered = scene.model()
+    target = "layered"
+    full = layered.maxima(V, R, m)
+    if not np.any(np.isfinite(full.delta_max)):
+        raise InputError(f"impactor: at V = {V[0]:g} m/s, R = {R[0]:g} m, m = {m:g} kg (and "
+                         "the map's corners) the approach would exceed the sphere radius; "
+                         "no contact model holds there")
+    if scene.stack.layers:
+        bare = ImpactModel(scene.stack.substrate, law, mat, scene.unloading).maxima(V, R, m)
+        change = float(np.nanmax(np.abs(np.r_[bare.delta_max / full.delta_max,
+                                               bare.force_max / full.force_max] - 1.0)))
+        depth = float(np.nanmax(full.delta_max))
+        if change <= tolerance:
+            target = "substrate"
+            steps.append(Step("target", f"substrate alone ({scene.stack.substrate.name})",
+                              f"skipping the films changes the maxima by {change:.2%} at "
+                              f"most, within the tolerance {tolerance:.0%} (rule 3)",
+                              f"{change:.2%} from the films left out", 0.0))
+        else:
+            steps.append(Step("target", "layered profile (Gao weighting, physics.md s. 7)",
+                              f"the films change the maxima by up to {change:.1%} (deepest "
+                              f"approach {depth:.3g} m against "
+                              f"{sum(l.thickness for l in scene.stack.layers):.3g} m of "
+                              "film), above the tolerance (rule 3)",
+                              "the weighting's own (Gao 1992: a few % for moderate "
+                              "mismatch)", 0.0))
+    else:
+        target = "substrate"
+    model = (scene.substrate_model() if target == "substrate" else layered)
+    hertz = contact_law("hertz")
+    check = ImpactModel(model.target, law, mat, scene.unloading).maxima(V, R, m)
+    yields = bool(np.any(check.yielded))
+    if yields:
+        chosen = law
+        steps.append(Step("contact law", law.name,
+                          f"first yield is reached at {int(np.sum(check.yielded))} of "
+                          f"{V.size} checked points (rule 4)",
+                          "the law's own against FE (physics.md)", 0.0))
+    else:
+        chosen = hertz
+        steps.append(Step("contact law", "Hertz (closed form)",
+                          f"no checked point reaches first yield (largest V {V.max():.3g} "
+                          f"m/s under V_Y = {float(np.nanmin(check.yield_velocity)):.3g} "
+                          "m/s) (rule 4)", "exact for an elastic contact", 0.0))
+    run_model = ImpactModel(model.target, chosen, mat, scene.unloading)
+    path = "time" if "history" in outputs else "fast"
+    count = 1
+    if "map" in outputs:
+        v_axis, r_axis = scene.map.axes()
+        count = v_axis.size * r_axis.size
+    if path == "time":
+        _, one = _timed(lambda: run_model.history(scene.impactor.velocity,
+                                                  scene.impactor.radius, m))
+        steps.append(Step("impact", "time integration (histories)",
+                          "time histories are asked for (rule 5)",
+                          f"rtol {scene.rtol:g}", one))
+    _, one = _timed(lambda: run_model.maxima(V[:1], R[:1], m))
+    steps.append(Step("impact", ("impact map " if "map" in outputs else "") +
+                      "fast maxima (energy quadrature)",
+                      "maxima, restitution and residual depth need no time history (rule 5)",
+                      "about 1e-11 relative (12-node quadrature)", one * count))
+    return Plan(tuple(steps), {"target": target, "law": chosen.name, "path": path,
+                               "map": "map" in outputs, "history": path == "time"})
+
+
+def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None
+               ) -> Plan:
+    """The whole plan; impact steps wait for the calibrations unless all layers are known."""
+    steps = [_md_step(s, pipeline.base) for s in pipeline.calibrations
+             if calibrated is None or s.layer not in calibrated]
+    missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
+    if missing:
+        steps.append(Step("impact", "chosen after calibration",
+                          "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
+        return Plan(tuple(steps))
+    scene = pipeline.completed(calibrated or {})
+    impact = plan_impact(scene, pipeline.outputs, pipeline.tolerance, pipeline.friction,
+                         pipeline.angle)
+    return Plan(tuple(steps) + impact.steps, impact.decisions)
+
+
+# ---------------------------------------------------------------- run units
+
+def code_version() -> str:
+    info = provenance()
+    return f"{info['filmscale_version']}+{info['source_revision']}"
+
+
+def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
+    """``store/<kind>-<16 hex>``, the hash over the kind, the inputs and the code version."""
+    blob = json.dumps({"kind": kind, "inputs": inputs, "code": code_version()},
+                      sort_keys=True, default=str)
+    return Path(store) / f"{kind}-{hashlib.sha256(blob.encode()).hexdigest()[:16]}"
+
+
+def _done(path: Path) -> dict | None:
+    marker = path / "done.json"
+    return json.loads(marker.read_text()) if marker.exists() else None
+
+
+def _finish(path: Path, record: dict) -> dict:
+    with atomic_path(path / "done.json") as tmp:
+        Path(tmp).write_text(json.dumps(record, default=str))
+    return record
+
+
+def _say(message: str):
+    print(f"filmscale: {message}", file=sys.stderr, flush=True)
+
+
+def md_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
+    """Run (or resume, or reuse) the MD indentation of a calibration source."""
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.run import run_indentation
+    spec = src.spec(base)
+    path = unit_dir(store, "md-indent", {"spec": spec.to_dict(), "np": src.np})
+    if _done(path) is not None:
+        return path, True
+    _say(f"MD indentation {spec.name} for {src.name} in {path}")
+    from tqdm import tqdm
+    bar = tqdm(total=spec.protocol.schedule().s_end, unit="step", disable=None, file=sys.stderr)
+    try:
+        run = run_indentation(spec, path, EngineOptions(np=src.np),
+                              progress=lambda step, total: bar.update(max(0, step - bar.n)))
+    finally:
+        bar.close()
+    np.savez(path / "curve.npz", h=run.curve.h, P=run.curve.P, segment=run.curve.segment)
+    from filmscale.md.record import run_provenance
+    _finish(path, {"indenter": run.curve.indenter, "wall_time": run.wall_time,
+                   **run_provenance(run)})
+    return path, False
+
+
+def md_curve(path: Path):
+    from filmscale.continuum.curves import LoadDisplacementCurve
+    d = np.load(path / "curve.npz")
+    meta = _done(path)
+    return LoadDisplacementCurve(d["h"], d["P"], segment=d["segment"],
+                                 indenter=meta["indenter"], meta={"source": str(path)})
+
+
+def calibration_unit(src: CalibrationSource, md_path: Path, nu: float, law: str,
+                     store: Path) -> tuple[Calibration, Path, bool]:
+    path = unit_dir(store, "calibration", {"md": md_path.name, "nu": nu, "law": law,
+                                          "layer": src.name})
+    record = _done(path)
+    reused = record is not None
+    if not reused:
+        path.mkdir(parents=True, exist_ok=True)
+        cal = calibrate_sphere(md_curve(md_path), nu=nu, law=law, layer=src.name)
+        (h, P, F), = cal.fitted_curves
+        np.savez(path / "fit.npz", h=h, P=P, P_model=F)
+        record = _finish(path, cal.to_dict())
+    d = np.load(path / "fit.npz")
+    cal = _calibration_from_dict(record, ((d["h"], d["P"], d["P_model"]),))
+    return cal, path, reused
+
+
+def _calibration_from_dict(d: dict, fitted) -> Calibration:
+    from .calibration import Parameter
+    d = dict(d)
+    for key in ("E", "sigma_y", "n"):
+        d[key] = Parameter(**d[key])
+    for key in ("sources", "warnings"):
+        d[key] = tuple(d[key])
+    return Calibration(**d, fitted_curves=fitted)
+
+
+@dataclass(frozen=True)
+class SceneResult:
+    path: Path
+    plan: Plan
+    units: dict            #: unit directory -> "ran" or "reused"
+
+
+def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> SceneResult:
+    """Execute the plan: calibrations (MD units), then the impact evaluation; write ``out``."""
+    store = Path(store)
+    store.mkdir(parents=True, exist_ok=True)
+    units = {}
+    calibrations: dict[int, Calibration] = {}
+    for src in pipeline.calibrations:
+        md_path, reused = md_unit(src, pipeline.base, store)
+        units[md_path.name] = "reused" if reused else "ran"
+        layer = pipeline.data["target"]["layers"][src.layer]
+        law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
+        cal, cal_path, reused = calibration_unit(src, md_path, float(layer["nu"]), law, store)
+        units[cal_path.name] = "reused" if reused else "ran"
+        calibrations[src.layer] = cal
+        _say(cal.summary())
+    materials = {k: c.material() for k, c in calibrations.items()}
+    plan = plan_scene(pipeline, materials)
+    scene = pipeline.completed(materials)
+    _say("plan:\n" + plan.text())
+    impact_path = unit_dir(store, "impact", {"scene": scene_from_text_key(pipeline, materials),
+                                            "plan": plan.decisions})
+    record = _done(impact_path)
+    if record is None:
+        impact_path.mkdir(parents=True, exist_ok=True)
+        _impact_evaluation(scene, plan, impact_path)
+        record = _finish(impact_path, {"decisions": plan.decisions})
+        units[impact_path.name] = "ran"
+    else:
+        units[impact_path.name] = "reused"
+    path = write_scene_result(out, pipeline, scene, plan, calibrations, impact_path, store)
+    return SceneResult(path, plan, units)
+
+
+def scene_from_text_key(pipeline: PipelineScene, materials) -> dict:
+    """The complete impact inputs: the scene data with calibrated values filled in."""
+    data = copy.deepcopy(pipeline.data)
+    for k, m in materials.items():
+        data["target"]["layers"][k].update(E=m.E, sigma_y=m.sigma_y)
+    return {"data": data, "outputs": sorted(pipeline.outputs),
+            "tolerance": pipeline.tolerance}
+
+
+def _impact_model(scene: Scene, plan: Plan) -> ImpactModel:
+    law = contact_law(plan.decisions["law"]) if plan.decisions["law"] == "hertz" else scene.law
+    target = (scene.stack.substrate if plan.decisions["target"] == "substrate"
+              else scene.model().target)
+    return ImpactModel(target, law, scene.impactor.material, scene.unloading)
+
+
+def _impact_evaluation(scene: Scene, plan: Plan, path: Path):
+    from filmscale.continuum.impact_map import impact_map
+    model = _impact_model(scene, plan)
+    imp = scene.impactor
+    one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
+    arrays = {f"point/{k}": v for k, v in one.to_dict().items()
+              if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    if plan.decisions.get("history"):
+        hist = model.history(imp.velocity, imp.radius, imp.mass, rtol=scene.rtol)
+        arrays.update({f"history/{k}": getattr(hist, k)
+                       for k in ("time", "delta", "velocity", "force", "contact_radius")})
+    if plan.decisions.get("map"):
+        V, R = scene.map.axes()
+        mp = impact_map(model, V, R, imp.mass)
+        arrays.update({f"map/{k}": np.asarray(v) for k, v in mp.to_dict().items()
+                       if np.asarray(v).dtype.kind in "fiub"})
+    with atomic_path(path / "impact.npz") as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, **{k.replace("/", "__"): np.asarray(v) for k, v in arrays.items()})
+
+
+def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndarray]:
+    """Effective E_p and sigma_y of the stack against approach, for a sphere of radius R."""
+    depth = 3 * sum(l.thickness for l in scene.stack.layers) or 1e-8
+    delta = np.geomspace(depth * 1e-3, depth * 10, points)
+    E_p, sy, nu = StackProfile(scene.stack).properties(delta, R)
+    return {"delta": delta, "E_p": E_p, "sigma_y": sy, "nu": nu}
+
+
+def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
+                       calibrations: dict[int, Calibration], impact_path: Path,
+                       store: Path) -> Path:
+    """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
+    profile, impact results; SI datasets with unit attributes; provenance attributes."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    extra = {}
+    for src in pipeline.calibrations:
+        record = _done(unit_dir(store, "md-indent",
+                                {"spec": src.spec(pipeline.base).to_dict(), "np": src.np}))
+        if record:
+            extra[f"md_{src.layer}"] = json.dumps(record)
+    with atomic_h5(out) as f:
+        f.attrs["format"] = RESULT_FORMAT
+        for k, v in provenance(scene=pipeline.source, **extra).items():
+            f.attrs[k] = v
+        f.create_dataset("scene", data=pipeline.text)
+        f.attrs["plan"] = json.dumps(plan.to_dict())
+        g = f.create_group("calibration")
+        for k, cal in calibrations.items():
+            c = g.create_group(str(k))
+            c.attrs["layer"] = cal.layer
+            c.attrs["calibration"] = json.dumps(cal.to_dict())
+            for name in ("E", "sigma_y", "n"):
+                p = getattr(cal, name)
+                c.attrs[name] = p.value
+                c.attrs[f"{name}_std"] = p.std
+                c.attrs[f"{name}_identified"] = p.identified
+            (h, P, F), = cal.fitted_curves
+            for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
+                c.create_dataset(name, data=data).attrs["units"] = unit
+        prof = profile_table(scene, scene.impactor.radius)
+        p = f.create_group("profile")
+        for name, unit in (("delta", "m"), ("E_p", "Pa"), ("sigma_y", "Pa"), ("nu", "1")):
+            p.create_dataset(name, data=prof[name]).attrs["units"] = unit
+        i = f.create_group("impact")
+        with np.load(impact_path / "impact.npz") as d:
+            for key in d.files:
+                i.create_dataset(key.replace("__", "/"), data=d[key])
+    return out

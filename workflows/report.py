@@ -1,0 +1,128 @@
+"""`filmscale report RESULT.h5`: one self-contained HTML file (figures embedded as PNG) of a
+scene result: the plan and its reasons, each calibrated layer's curve and fit with the
+parameters and their uncertainty, the depth profile, and the impact results or map."""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+from pathlib import Path
+
+import h5py
+
+from filmscale.continuum.errors import InputError
+from filmscale.continuum.io import atomic_path
+
+from .pipeline import RESULT_FORMAT
+from .plots import plt
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    plt.close(fig)
+    return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
+
+
+def _calibration_figure(group) -> str:
+    fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
+    h, P, F = (group[k][()] for k in ("h", "P", "P_model"))
+    ax.plot(h * 1e9, P * 1e9, ".", ms=3, label="curve (data)")
+    ax.plot(h * 1e9, F * 1e9, "-", label="calibrated contact law")
+    ax.set_xlabel("depth h (nm)")
+    ax.set_ylabel("load P (nN)")
+    ax.set_title(str(group.attrs["layer"]))
+    ax.legend()
+    return _png(fig)
+
+
+def _profile_figure(group, radius) -> str:
+    fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
+    d = group["delta"][()] * 1e9
+    ax.semilogx(d, group["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
+    ax.semilogx(d, group["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
+    ax.set_xlabel("approach delta (nm)")
+    ax.set_title(f"effective properties, sphere R = {radius * 1e6:.3g} um (Gao weighting)")
+    ax.legend()
+    return _png(fig)
+
+
+def _map_figure(group) -> str:
+    fields = [("delta_max", "maximum approach (nm)", 1e9),
+              ("restitution", "restitution e_y", 1.0),
+              ("residual_depth", "residual depth (nm)", 1e9)]
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
+    V, R = group["velocity"][()], group["radius"][()]
+    for ax, (key, label, scale) in zip(axes, fields):
+        z = group[key][()] * scale
+        c = ax.contourf(V, R * 1e6, z, levels=20, cmap="viridis")
+        fig.colorbar(c, ax=ax, label=label)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("impact velocity V (m/s)")
+        ax.set_ylabel("sphere radius R (um)")
+    return _png(fig)
+
+
+def _table(rows, header) -> str:
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
+                   for r in rows)
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def write_report(result, out=None) -> Path:
+    """Write the HTML report of a scene result (default: RESULT with suffix .html)."""
+    result = Path(result)
+    out = Path(out) if out is not None else result.with_suffix(".html")
+    with h5py.File(result, "r") as f:
+        if f.attrs.get("format") != RESULT_FORMAT:
+            raise InputError(f"{result} is not a scene result (format "
+                             f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
+        plan = json.loads(f.attrs["plan"])
+        parts = [f"<h1>filmscale scene report</h1><p>scene: {html.escape(f.attrs['scene'])}"
+                 f"; filmscale {html.escape(f.attrs['filmscale_version'])} "
+                 f"({html.escape(f.attrs['source_revision'])}); created "
+                 f"{html.escape(f.attrs['created_utc'])}</p>",
+                 "<h2>Plan</h2>",
+                 _table([(s["name"], s["model"], s["reason"], s["error"],
+                          f"{s['cost_s']:.3g} s") for s in plan["steps"]],
+                        ("step", "model", "why", "error", "cost"))]
+        if len(f["calibration"]):
+            parts.append("<h2>Calibrated layers</h2>")
+        for key in f["calibration"]:
+            g = f["calibration"][key]
+            cal = json.loads(g.attrs["calibration"])
+            rows = [(name, f"{cal[name]['value']:.4g}",
+                     f"{cal[name]['std']:.3g}" if cal[name]["std"] == cal[name]["std"]
+                     else "-", cal[name]["unit"],
+                     "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
+                    for name in ("E", "sigma_y", "n")]
+            parts += [f"<h3>{html.escape(cal['layer'])}</h3>",
+                      f"<p>{html.escape(cal['model'])}; uncertainty: "
+                      f"{html.escape(cal['uncertainty'])}; rms misfit "
+                      f"{cal['rms']:.2%} of the largest load over {cal['points']} points</p>",
+                      _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
+                      _calibration_figure(g)]
+            parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
+        radius = float(f["impact/point/radius"][()])
+        parts += ["<h2>Depth profile</h2>", _profile_figure(f["profile"], radius),
+                  "<h2>Impact</h2>"]
+        point = f["impact/point"]
+        parts.append(_table([(k, f"{float(point[k][()]):.5g}") for k in sorted(point)],
+                            ("quantity (SI)", "value")))
+        if "map" in f["impact"]:
+            parts.append(_map_figure(f["impact/map"]))
+        scene = f["scene"][()]
+        scene = scene.decode() if isinstance(scene, bytes) else str(scene)
+        parts.append(f"<h2>Scene</h2><pre>{html.escape(scene)}</pre>")
+    style = ("<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
+             "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 6px;"
+             "font-size:90%}</style>")
+    with atomic_path(out) as tmp:
+        Path(tmp).write_text(f"<!doctype html><html><head><meta charset='utf-8'>{style}"
+                             f"<title>filmscale report</title></head><body>{''.join(parts)}"
+                             "</body></html>")
+    return out

@@ -659,9 +659,15 @@ def _run_lines(spec, fields: str) -> list[str]:
         # would otherwise cost up to half the run)
         t2 = from_si(spec.loading.times[1], "time", "particle")
         lines.append(f"variable stop equal v_finished+(v_t>{_num(t2)})*(v_load<=0)")
+    # the state where the run halted closes the record (the halt test and the record
+    # interval differ, so the last recorded point may still carry load)
+    row = " ".join(f"$(v_{c}:%.10g)" for c in
+                   (("t", "approach", "load", "vz") if impact else ("t", "depth", "load",
+                                                                   "apex_z")))
     lines += [
         "fix halt all halt 10 v_stop > 0.5 error continue message no",
         f"run {3 * steps + 1000}",
+        f'print "{row}" append {RECORD} screen no',
         'print "finished $(v_t:%.10g)" file finished.txt screen no',
     ]
     return lines

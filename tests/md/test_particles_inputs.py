@@ -117,6 +117,9 @@ def test_impact_input_drives_the_sphere_by_the_reaction():
     assert "create_atoms 2 region imp" in text
     assert "pair_coeff 1 2 none" in text and "pair_coeff 2 2 none" in text
     assert "fix impactor imp nve" in text and "group tlsph type 1" in text
+    # the halted state closes the record: separation is always in it
+    assert text.index('print "$(v_t:%.10g) $(v_approach:%.10g) $(v_load:%.10g) '
+                      '$(v_vz:%.10g)" append particles.dat') > text.index("\nrun ")
 
 
 def test_johnson_cook_matches_the_power_law_at_its_strains():

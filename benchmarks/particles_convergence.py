@@ -199,9 +199,9 @@ def layered_sweep(workdir, table):
     for name, target in (("homogeneous", ParticleTarget(sub, ((0.4e-6, sub),))),
                          ("layered", ParticleTarget(sub, ((0.4e-6, film),)))):
         spec = ParticleIndentSpec(f"layered-{name}", "peri", target, "sphere:1um",
-                                  IndentLoading(0.15 * R, 50.0, frames=0), grid)
+                                  IndentLoading(0.12 * R, 50.0, frames=0), grid)
         runs[name] = run_particles(spec, Path(workdir) / spec.name)
-    depths = np.array([0.04, 0.06, 0.08, 0.10, 0.12, 0.15]) * R
+    depths = np.array([0.03, 0.05, 0.07, 0.09, 0.11, 0.12]) * R
     P = {k: np.interp(depths, *loading(r)) for k, r in runs.items()}
     target = runs["layered"].spec.target
     gao = StackProfile(target.stack).properties(depths, R)[0] / sub.material.plane_strain_modulus

@@ -16,9 +16,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install -q -e '.[test]'
 	@touch $@
 
+# The whole chain on examples/demo_scene.toml: MD indentation (quick preset) -> calibration of
+# the film -> depth profile -> impact map -> HTML report. A second `make demo` reuses every unit.
 demo: $(STAMP)
-	$(BIN)/filmscale impact-map examples/slider_corner_disk.toml \
-	  --out demo_output/impact_map.h5 --plot demo_output/impact_map.png
+	$(BIN)/filmscale run examples/demo_scene.toml --store demo_output/runs \
+	  --out demo_output/demo.h5 --report
 
 test: $(STAMP)
 	$(BIN)/python -m pytest

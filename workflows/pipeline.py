@@ -47,7 +47,7 @@ from filmscale.continuum.io import atomic_h5, atomic_path, read_text
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.continuum.profiles import StackProfile
 
-from .calibration import Calibration, calibrate_sphere
+from .calibration import Calibration, Parameter, calibrate_sphere
 from .provenance import provenance
 from .scene import Scene, read_toml, scene_from_data
 
@@ -383,7 +383,6 @@ def calibration_unit(src: CalibrationSource, md_path: Path, nu: float, law: str,
 
 
 def _calibration_from_dict(d: dict, fitted) -> Calibration:
-    from .calibration import Parameter
     d = dict(d)
     for key in ("E", "sigma_y", "n"):
         d[key] = Parameter(**d[key])
@@ -418,7 +417,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     plan = plan_scene(pipeline, materials)
     scene = pipeline.completed(materials)
     _say("plan:\n" + plan.text())
-    impact_path = unit_dir(store, "impact", {"scene": scene_from_text_key(pipeline, materials),
+    impact_path = unit_dir(store, "impact", {"scene": impact_inputs(pipeline, materials),
                                             "plan": plan.decisions})
     record = _done(impact_path)
     if record is None:
@@ -432,7 +431,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     return SceneResult(path, plan, units)
 
 
-def scene_from_text_key(pipeline: PipelineScene, materials) -> dict:
+def impact_inputs(pipeline: PipelineScene, materials) -> dict:
     """The complete impact inputs: the scene data with calibrated values filled in."""
     data = copy.deepcopy(pipeline.data)
     for k, m in materials.items():

@@ -560,6 +560,12 @@ def _finish(spec, lines: list[str]) -> str:
     return "\n".join(ln.replace("{every}", str(every)) for ln in lines) + "\n"
 
 
+def _record_row(impact: bool) -> str:
+    """One record line: the LAMMPS variables behind IMPACT_COLUMNS or INDENT_COLUMNS."""
+    names = ("t", "approach", "load", "vz") if impact else ("t", "depth", "load", "apex_z")
+    return " ".join(f"$(v_{n}:%.10g)" for n in names)
+
+
 def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
                    D: float, scale: float = 1.0) -> list[str]:
     p = spec.loading
@@ -583,8 +589,8 @@ def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: floa
         f"region apex sphere 0 0 0 {_num(0.25 * dx)} units box",
         "group apex region apex",
         "variable apex_z equal xcm(apex,z)    # the surface particle on the axis",
-        f'fix record all print {{every}} "$(v_t:%.10g) $(v_depth:%.10g) $(v_load:%.10g) '
-        f'$(v_apex_z:%.10g)" file {RECORD} screen no title "# {" ".join(INDENT_COLUMNS)}"',
+        f'fix record all print {{every}} "{_record_row(False)}" file {RECORD} screen no '
+        f'title "# {" ".join(INDENT_COLUMNS)}"',
         "thermo_style custom step dt v_t v_depth v_load",
         "thermo_modify flush yes",
     ]
@@ -611,8 +617,8 @@ def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
         + (f"/{_num(scale)}" if scale != 1.0 else ""),
         "fix push imp addforce 0 0 v_push",
         "variable vz equal vcm(imp,z)",
-        f'fix record all print {{every}} "$(v_t:%.10g) $(v_approach:%.10g) $(v_load:%.10g) '
-        f'$(v_vz:%.10g)" file {RECORD} screen no title "# {" ".join(IMPACT_COLUMNS)}"',
+        f'fix record all print {{every}} "{_record_row(True)}" file {RECORD} screen no '
+        f'title "# {" ".join(IMPACT_COLUMNS)}"',
         "thermo_style custom step dt v_t v_approach v_load v_vz",
         "thermo_modify flush yes",
     ]
@@ -661,13 +667,10 @@ def _run_lines(spec, fields: str) -> list[str]:
         lines.append(f"variable stop equal v_finished+(v_t>{_num(t2)})*(v_load<=0)")
     # the state where the run halted closes the record (the halt test and the record
     # interval differ, so the last recorded point may still carry load)
-    row = " ".join(f"$(v_{c}:%.10g)" for c in
-                   (("t", "approach", "load", "vz") if impact else ("t", "depth", "load",
-                                                                   "apex_z")))
     lines += [
         "fix halt all halt 10 v_stop > 0.5 error continue message no",
         f"run {3 * steps + 1000}",
-        f'print "{row}" append {RECORD} screen no',
+        f'print "{_record_row(impact)}" append {RECORD} screen no',
         'print "finished $(v_t:%.10g)" file finished.txt screen no',
     ]
     return lines

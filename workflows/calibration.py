@@ -26,14 +26,14 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import brentq, least_squares
 from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact_laws import ContactLaw, contact_law
 from filmscale.continuum.curves import LOAD, LoadDisplacementCurve
 from filmscale.continuum.errors import InputError, check_real
 from filmscale.continuum.indentation import NixGaoFit, hertz_fit, nix_gao_fit, oliver_pharr
-from filmscale.continuum.materials import ElasticPlastic
+from filmscale.continuum.materials import ElasticPlastic, modulus_from_reduced
 from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_reverse, dao_reverse_repeated
 from filmscale.continuum.tips import Sphere, parse_tip
 
@@ -99,13 +99,6 @@ class Calibration:
                          f"{self.points} points")
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
-
-
-def _E_from_reduced(E_star, nu, indenter: ElasticPlastic | None) -> float:
-    """Young's modulus from the reduced modulus against a rigid or elastic indenter."""
-    compliance = 0.0 if indenter is None else indenter.compliance
-    inv = 1.0 / E_star - compliance
-    return (1.0 - nu**2) / inv if inv > 0 else math.nan
 
 
 def _sphere_radius(curve: LoadDisplacementCurve, R) -> float:
@@ -217,7 +210,8 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         std_lnS, sy_identified = math.nan, False
         sy_reason = "no curve passes first yield beyond noise; the value is a lower bound"
         warnings.append(f"sigma_y not identified: {sy_reason}")
-    E = _E_from_reduced(E_star, nu, indenter)
+    compliance = 0.0 if indenter is None else indenter.compliance
+    E = float(modulus_from_reduced(E_star, nu, compliance))
     dE = E**2 / ((1 - nu**2) * E_star) * std_lnE      # dE/dE* times the std of E*
     rms = math.sqrt(ssr / N)
     fitted = tuple((h, P, f) for (h, P, _, _), f in zip(data, forces(
@@ -242,17 +236,10 @@ def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:
 
 def _yield_lower_bound(law: ContactLaw, delta_max, R, E_star, nu) -> float:
     """The sigma_y at which first yield falls exactly at the deepest point: any larger
-    sigma_y leaves the whole curve elastic."""
-    lo, hi = 1e-6 * E_star, E_star
-    for _ in range(200):
-        mid = math.sqrt(lo * hi)
-        if _yield_approach(law, R, E_star, mid, nu) < delta_max:
-            lo = mid
-        else:
-            hi = mid
-        if hi / lo < 1 + 1e-10:
-            break
-    return math.sqrt(lo * hi)
+    sigma_y leaves the whole curve elastic (root in ln sigma_y, bracketed by 1e-6 E* and E*)."""
+    def gap(ln_sy):
+        return _yield_approach(law, R, E_star, math.exp(ln_sy), nu) - delta_max
+    return math.exp(brentq(gap, math.log(1e-6 * E_star), math.log(E_star), xtol=1e-12))
 
 
 def sharp_inputs(curve: LoadDisplacementCurve, tip="berkovich"):

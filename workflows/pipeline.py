@@ -31,6 +31,7 @@ Planner rules (physics.md; benchmarks/impact_speed_vs_error.py):
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import json
 import math
@@ -59,6 +60,12 @@ RESULT_FORMAT = "filmscale.scene_result/1"
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
 
 
+@functools.lru_cache(maxsize=None)
+def _md_spec(md: str, base: Path):
+    from filmscale.md.spec import PRESETS, load_spec, preset
+    return preset(md) if md in PRESETS else load_spec(base / md)
+
+
 @dataclass(frozen=True)
 class CalibrationSource:
     """A layer to calibrate from an MD indentation."""
@@ -69,8 +76,7 @@ class CalibrationSource:
     np: int = 1
 
     def spec(self, base: Path):
-        from filmscale.md.spec import PRESETS, load_spec, preset
-        return preset(self.md) if self.md in PRESETS else load_spec(base / self.md)
+        return _md_spec(self.md, Path(base).resolve())
 
 
 @dataclass(frozen=True)
@@ -223,16 +229,15 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
     V, R = _points(scene, outputs)
     m = scene.impactor.mass
     law = scene.law
-    mat = scene.impactor.material
-    layered = scene.model()
     target = "layered"
-    full = layered.maxima(V, R, m)
+    full = scene.model().maxima(V, R, m)
     if not np.any(np.isfinite(full.delta_max)):
         raise InputError(f"impactor: at V = {V[0]:g} m/s, R = {R[0]:g} m, m = {m:g} kg (and "
                          "the map's corners) the approach would exceed the sphere radius; "
                          "no contact model holds there")
+    bare = full
     if scene.stack.layers:
-        bare = ImpactModel(scene.stack.substrate, law, mat, scene.unloading).maxima(V, R, m)
+        bare = scene.substrate_model().maxima(V, R, m)
         change = float(np.nanmax(np.abs(np.r_[bare.delta_max / full.delta_max,
                                                bare.force_max / full.force_max] - 1.0)))
         depth = float(np.nanmax(full.delta_max))
@@ -252,23 +257,20 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
                               "mismatch)", 0.0))
     else:
         target = "substrate"
-    model = (scene.substrate_model() if target == "substrate" else layered)
-    hertz = contact_law("hertz")
-    check = ImpactModel(model.target, law, mat, scene.unloading).maxima(V, R, m)
-    yields = bool(np.any(check.yielded))
-    if yields:
+    check = bare if target == "substrate" else full
+    if np.any(check.yielded):
         chosen = law
         steps.append(Step("contact law", law.name,
                           f"first yield is reached at {int(np.sum(check.yielded))} of "
                           f"{V.size} checked points (rule 4)",
                           "the law's own against FE (physics.md)", 0.0))
     else:
-        chosen = hertz
+        chosen = contact_law("hertz")
         steps.append(Step("contact law", "Hertz (closed form)",
                           f"no checked point reaches first yield (largest V {V.max():.3g} "
                           f"m/s under V_Y = {float(np.nanmin(check.yield_velocity)):.3g} "
                           "m/s) (rule 4)", "exact for an elastic contact", 0.0))
-    run_model = ImpactModel(model.target, chosen, mat, scene.unloading)
+    run_model = _chosen_model(scene, target, chosen.name)
     path = "time" if "history" in outputs else "fast"
     count = 1
     if "map" in outputs:
@@ -307,6 +309,7 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
 
 # ---------------------------------------------------------------- run units
 
+@functools.lru_cache(maxsize=1)
 def code_version() -> str:
     info = provenance()
     return f"{info['filmscale_version']}+{info['source_revision']}"
@@ -404,9 +407,11 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     store.mkdir(parents=True, exist_ok=True)
     units = {}
     calibrations: dict[int, Calibration] = {}
+    md_records: dict[int, dict] = {}
     for src in pipeline.calibrations:
         md_path, reused = md_unit(src, pipeline.base, store)
         units[md_path.name] = "reused" if reused else "ran"
+        md_records[src.layer] = _done(md_path)
         layer = pipeline.data["target"]["layers"][src.layer]
         law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
         cal, cal_path, reused = calibration_unit(src, md_path, float(layer["nu"]), law, store)
@@ -427,7 +432,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
         units[impact_path.name] = "ran"
     else:
         units[impact_path.name] = "reused"
-    path = write_scene_result(out, pipeline, scene, plan, calibrations, impact_path, store)
+    path = write_scene_result(out, pipeline, scene, plan, calibrations, impact_path,
+                              md_records)
     return SceneResult(path, plan, units)
 
 
@@ -440,16 +446,17 @@ def impact_inputs(pipeline: PipelineScene, materials) -> dict:
             "tolerance": pipeline.tolerance}
 
 
-def _impact_model(scene: Scene, plan: Plan) -> ImpactModel:
-    law = contact_law(plan.decisions["law"]) if plan.decisions["law"] == "hertz" else scene.law
-    target = (scene.stack.substrate if plan.decisions["target"] == "substrate"
-              else scene.model().target)
-    return ImpactModel(target, law, scene.impactor.material, scene.unloading)
+def _chosen_model(scene: Scene, target: str, law: str) -> ImpactModel:
+    """The impact model the plan chose: ``target`` "substrate" or "layered", ``law`` the
+    scene's law or "hertz"."""
+    base = scene.substrate_model() if target == "substrate" else scene.model()
+    chosen = contact_law("hertz") if law == "hertz" else scene.law
+    return ImpactModel(base.target, chosen, scene.impactor.material, scene.unloading)
 
 
 def _impact_evaluation(scene: Scene, plan: Plan, path: Path):
     from filmscale.continuum.impact_map import impact_map
-    model = _impact_model(scene, plan)
+    model = _chosen_model(scene, plan.decisions["target"], plan.decisions["law"])
     imp = scene.impactor
     one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
     arrays = {f"point/{k}": v for k, v in one.to_dict().items()
@@ -478,17 +485,13 @@ def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndar
 
 def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                        calibrations: dict[int, Calibration], impact_path: Path,
-                       store: Path) -> Path:
+                       md_records: dict[int, dict]) -> Path:
     """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
-    profile, impact results; SI datasets with unit attributes; provenance attributes."""
+    profile, impact results; SI datasets with unit attributes; provenance attributes, with
+    each MD unit's record (LAMMPS version, potential checksum, seeds) as ``md_<layer>``."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    extra = {}
-    for src in pipeline.calibrations:
-        record = _done(unit_dir(store, "md-indent",
-                                {"spec": src.spec(pipeline.base).to_dict(), "np": src.np}))
-        if record:
-            extra[f"md_{src.layer}"] = json.dumps(record)
+    extra = {f"md_{k}": json.dumps(r) for k, r in md_records.items()}
     with atomic_h5(out) as f:
         f.attrs["format"] = RESULT_FORMAT
         for k, v in provenance(scene=pipeline.source, **extra).items():

@@ -27,7 +27,8 @@ from .hertz import elastic_impact, elastic_impact_time, first_yield, yield_veloc
 from .impact import ImpactHistory, ImpactMaxima, ImpactModel, ImpactResult, solve_impact
 from .impact_map import MAP_FIELDS, ImpactMap, axis, impact_map
 from .indentation import (LoadDrop, OliverPharrResult, calibrate_frame_compliance,
-                          detect_load_drop, detect_pop_in, hertz_fit, nix_gao_fit, oliver_pharr, pop_in_shear_stress,
+                          detect_load_drop, detect_pop_in, elastic_limit, hertz_fit,
+                          nix_gao_fit, oliver_pharr, pop_in_shear_stress,
                           shallow_depth_hardness)
 from .io import read_curves
 from .materials import DIAMOND, ElasticPlastic, Layer, LayerStack, reduced_modulus
@@ -50,7 +51,8 @@ __all__ = [
     "johnson_restitution", "thornton_restitution",
     "LoadDisplacementCurve", "check_curve", "drift_rate", "synthetic_curve", "read_curves",
     "OliverPharrResult", "oliver_pharr", "calibrate_frame_compliance", "shallow_depth_hardness",
-    "hertz_fit", "detect_pop_in", "LoadDrop", "detect_load_drop", "pop_in_shear_stress",
+    "hertz_fit", "detect_pop_in", "elastic_limit", "LoadDrop", "detect_load_drop",
+    "pop_in_shear_stress",
     "nix_gao_fit",
     "PropertyDepthProfile", "property_profile",
     "Tip", "Cone", "Sphere", "SphericalCone", "FlatPunch", "PolynomialArea", "parse_tip",

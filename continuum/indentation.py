@@ -361,7 +361,7 @@ def hertz_fit(curve: LoadDisplacementCurve, *, R=None, E_r=None, P_limit=None,
     """Fit the Hertz law to the elastic loading of a spherical tip.
 
     Give R (m) to get E_r, or E_r (Pa) to get R. Points are loading points up to P_limit (N);
-    by default up to a pop-in when `detect_pop_in` finds one, else the whole loading.
+    by default up to the first pop-in (`elastic_limit`), else the whole loading.
     ``fit_offset`` also fits a depth offset h_0 (m) for a misplaced surface.
     """
     if (R is None) == (E_r is None):
@@ -375,10 +375,10 @@ def hertz_fit(curve: LoadDisplacementCurve, *, R=None, E_r=None, P_limit=None,
     h, P = c.h[load], c.P[load]
     keep = c.segment[load] == LOAD
     if P_limit is None:
-        pop = detect_pop_in(c)
-        P_limit = pop.P if pop is not None else float(P.max())
-        if pop is not None:
-            keep &= np.arange(h.size) < pop.index
+        end = elastic_limit(c)
+        P_limit = float(P.max()) if end is None else float(c.P[end])
+        if end is not None:
+            keep &= np.arange(h.size) <= end
     P_limit = check_positive("P_limit", P_limit, "N")
     keep &= (P > 0) & (P <= P_limit)
     h, P = h[keep], P[keep]
@@ -473,16 +473,19 @@ def load_noise_sigma(P) -> float:
     return 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / math.sqrt(6.0)
 
 
-def detect_load_drop(curve: LoadDisplacementCurve, *, threshold=6.0) -> LoadDrop | None:
+def detect_load_drop(curve: LoadDisplacementCurve, *, threshold=6.0,
+                     min_drop=0.0) -> LoadDrop | None:
     """The first significant load drop on loading, or None.
 
     Under displacement control a pop-in (dislocation nucleation) shows as a fall of the load
     below its running maximum. From first contact (P > 0) on, the first point whose drawdown
     from the running maximum exceeds ``threshold`` noise standard deviations (and 1 % of the
-    peak, so that a noiseless curve is not split by round-off) marks the event; the peak is
-    the running maximum's point, the drop runs until the load regains the peak.
+    peak, so that a noiseless curve is not split by round-off, and ``min_drop``, N) marks the
+    event; the peak is the running maximum's point, the drop runs until the load regains the
+    peak.
     """
     threshold = check_positive("threshold", threshold)
+    min_drop = check_real("min_drop", min_drop, low=0.0, unit="N")
     c = curve.finite()
     idx = np.flatnonzero(c.segment == LOAD)
     idx = idx[np.argmax(c.P[idx] > 0):] if np.any(c.P[idx] > 0) else idx[:0]
@@ -492,7 +495,8 @@ def detect_load_drop(curve: LoadDisplacementCurve, *, threshold=6.0) -> LoadDrop
     sigma = load_noise_sigma(P)
     running = np.maximum.accumulate(P)
     drawdown = running - P
-    hits = np.flatnonzero(drawdown > np.maximum(threshold * sigma, 0.01 * running))
+    hits = np.flatnonzero(drawdown > np.maximum(np.maximum(threshold * sigma, 0.01 * running),
+                                                min_drop))
     if hits.size == 0:
         return None
     first = int(hits[0])
@@ -503,6 +507,28 @@ def detect_load_drop(curve: LoadDisplacementCurve, *, threshold=6.0) -> LoadDrop
     i = int(idx[peak])
     return LoadDrop(i, float(c.P[i]), float(c.h[i]), drop,
                     drop / sigma if sigma > 0 else math.inf)
+
+
+def elastic_limit(curve: LoadDisplacementCurve, *, min_fraction=0.02) -> int | None:
+    """Curve index of the last point before the first pop-in, or None without one.
+
+    A pop-in is a displacement burst under load control (`detect_pop_in`) or a load drop
+    under displacement control (`detect_load_drop`, as in MD); the earlier one counts. Only
+    events of at least ``min_fraction`` of the largest loading depth (bursts) or load (drops)
+    count: the contact oscillations of a particle model (0.4 % of P_max on the TLSPH ci
+    curve) are not pop-ins; an MD pop-in drops 20-25 % of its load.
+    """
+    min_fraction = check_real("min_fraction", min_fraction, low=0.0, high=1.0)
+    c = curve.finite()
+    load = c.segment == LOAD
+    if not np.any(load):
+        return None
+    burst = detect_pop_in(c)
+    if burst is not None and burst.jump < min_fraction * float(np.max(c.h[load])):
+        burst = None
+    drop = detect_load_drop(c, min_drop=min_fraction * float(np.max(c.P[load])))
+    ends = [e.index for e in (burst, drop) if e is not None]
+    return min(ends) if ends else None
 
 
 def pop_in_shear_stress(P, E_r, R) -> float:
@@ -571,5 +597,6 @@ def nix_gao_fit(h, H) -> NixGaoFit:
 __all__ = [
     "OliverPharrResult", "oliver_pharr", "sample_modulus", "FrameCompliance",
     "calibrate_frame_compliance", "elastic_indent", "shallow_depth_hardness", "HertzFit",
-    "hertz_fit", "PopIn", "detect_pop_in", "pop_in_shear_stress", "NixGaoFit", "nix_gao_fit",
+    "hertz_fit", "PopIn", "detect_pop_in", "elastic_limit", "pop_in_shear_stress", "NixGaoFit",
+    "nix_gao_fit",
 ]

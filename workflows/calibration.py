@@ -32,9 +32,11 @@ from scipy.stats import f as f_dist
 from filmscale.continuum.contact_laws import ContactLaw, contact_law
 from filmscale.continuum.curves import LOAD, LoadDisplacementCurve
 from filmscale.continuum.errors import InputError, check_real
-from filmscale.continuum.indentation import NixGaoFit, hertz_fit, nix_gao_fit, oliver_pharr
+from filmscale.continuum.indentation import (NixGaoFit, elastic_limit, hertz_fit, nix_gao_fit,
+                                             oliver_pharr)
 from filmscale.continuum.materials import ElasticPlastic, modulus_from_reduced
-from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_reverse, dao_reverse_repeated
+from filmscale.continuum.reverse import (E_I_DAO, NU_I_DAO, dao_forward, dao_reverse,
+                                        dao_reverse_repeated)
 from filmscale.continuum.tips import Sphere, parse_tip
 
 #: relative standard deviation above which a fitted parameter is reported as not identified
@@ -87,6 +89,18 @@ class Calibration:
         d.pop("fitted_curves")
         return d
 
+    def cross_check(self, tolerance: float) -> CrossCheck:
+        """The calibrated forward model (the contact law, or Dao's forward C for sharp tips)
+        against every loading point of the curves it was calibrated on: rms misfit over
+        the largest load of each curve, passed when at most ``tolerance``."""
+        tolerance = check_real("tolerance", tolerance, low=0.0, low_open=True, high=1.0)
+        if not self.fitted_curves:
+            raise InputError(f"calibration of {self.layer} holds no fitted curves")
+        resid = np.concatenate([(F - P) / P.max() for h, P, F in self.fitted_curves])
+        rms = float(np.sqrt(np.mean(resid**2)))
+        return CrossCheck(self.model, rms, float(np.max(np.abs(resid))), tolerance,
+                          rms <= tolerance, int(resid.size))
+
     def summary(self) -> str:
         lines = [f"Calibration of {self.layer} ({self.route}: {self.model}; "
                  f"uncertainty: {self.uncertainty})",
@@ -101,6 +115,27 @@ class Calibration:
         return "\n".join(lines)
 
 
+@dataclass(frozen=True)
+class CrossCheck:
+    """A calibrated parameter set run forward against the curves it came from."""
+
+    model: str
+    rms: float            #: rms misfit / largest load
+    worst: float          #: largest |misfit| / largest load
+    tolerance: float
+    passed: bool
+    points: int
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def text(self) -> str:
+        verdict = "passed" if self.passed else "FAILED"
+        return (f"cross-scale check {verdict}: {self.model} with the calibrated parameters "
+                f"reproduces the curves to {self.rms:.1%} rms (worst point {self.worst:.1%}) "
+                f"of the largest load; tolerance {self.tolerance:.0%}")
+
+
 def _sphere_radius(curve: LoadDisplacementCurve, R) -> float:
     if R is not None:
         return check_real("R", R, low=0.0, low_open=True, high=1.0, unit="m")
@@ -111,7 +146,9 @@ def _sphere_radius(curve: LoadDisplacementCurve, R) -> float:
     return tip.R
 
 
-def _loading_points(curve: LoadDisplacementCurve) -> tuple[np.ndarray, np.ndarray]:
+def _loading_points(curve: LoadDisplacementCurve, with_pop_in=False):
+    """Loading points with h > 0 and P > 0; with ``with_pop_in`` also the index (among
+    them) of the last point before the first pop-in, or None."""
     c = curve.finite()
     part = c.loading()
     h, P, seg = c.h[part], c.P[part], c.segment[part]
@@ -119,7 +156,11 @@ def _loading_points(curve: LoadDisplacementCurve) -> tuple[np.ndarray, np.ndarra
     if keep.sum() < 3:
         raise InputError(f"curve {c.meta.get('source', '')!r} has {int(keep.sum())} loading "
                          "points with h > 0 and P > 0; a calibration needs at least 3")
-    return h[keep], P[keep]
+    if not with_pop_in:
+        return h[keep], P[keep]
+    end = elastic_limit(c)
+    pop = None if end is None else int(np.count_nonzero(keep[:end + 1])) - 1
+    return h[keep], P[keep], (pop if pop is not None and pop >= 0 else None)
 
 
 def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
@@ -153,22 +194,46 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     law = contact_law(law) if isinstance(law, str) else law
     data = []
     for c, r in zip(curves, radii):
-        h, P = _loading_points(c)
-        data.append((h, P, _sphere_radius(c, r), float(P.max())))
+        h, P, pop = _loading_points(c, with_pop_in=True)
+        data.append((h, P, _sphere_radius(c, r), float(P.max()), pop))
+    compliance = 0.0 if indenter is None else indenter.compliance
+    sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
+    common = dict(layer=layer, nu=nu, n=Parameter(
+        float(n), math.nan, "", False,
+        f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"), sources=sources,
+        model=law.name)
+    if any(pop is not None for *_, pop in data):
+        return _sphere_past_pop_in(data, law, nu, compliance, common)
+    return _sphere_joint(data, law, nu, compliance, common)
 
+
+def _modulus(E_star, std_lnE, nu, compliance) -> Parameter:
+    E = float(modulus_from_reduced(E_star, nu, compliance))
+    dE = E**2 / ((1 - nu**2) * E_star) * std_lnE      # dE/dE* times the std of E*
+    return Parameter(E, float(dE), "Pa", bool(std_lnE < IDENTIFIABLE_RSD))
+
+
+def _residuals(data, law, nu, E_star, sigma_y):
+    return np.concatenate([(law.contact(h, r, E_star, sigma_y, nu).force - P) / Pm
+                           for h, P, r, Pm, *_ in data])
+
+
+def _fitted(data, law, nu, E_star, sigma_y):
+    return tuple((h, P, law.contact(h, r, E_star, sigma_y, nu).force)
+                 for h, P, r, Pm, *_ in data)
+
+
+def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
+    """Smooth curves: ln E* and ln sigma_y together, or Hertz alone when that suffices."""
     # starting point: Hertz on the first third of each curve's load, then yield at the
     # largest mean pressure divided by the law's hardness factor
     E0 = np.median([hertz_fit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)),
-                              R=r, P_limit=0.3 * Pm).E_r for h, P, r, Pm in data])
-    pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in data)
+                              R=r, P_limit=0.3 * Pm).E_r for h, P, r, Pm, _ in data])
+    pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm, _ in data)
     sy0 = pm / law.hardness_factor
 
-    def forces(theta):
-        E_star, sigma_y = np.exp(theta)
-        return [law.contact(h, r, E_star, sigma_y, nu).force for h, P, r, Pm in data]
-
     def residuals(theta):
-        return np.concatenate([(F - P) / Pm for F, (h, P, r, Pm) in zip(forces(theta), data)])
+        return _residuals(data, law, nu, *np.exp(theta))
 
     N = sum(h.size for h, *_ in data)
     elastic_sy = 1e3 * E0            # so high that nothing yields: the Hertz branch
@@ -183,7 +248,7 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
     E_star, sigma_y = np.exp(fit.x)
     reaches_yield = any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu)
-                        for h, _, r, _ in data)
+                        for h, _, r, *_ in data)
     # sigma_y counts as seen when the elastic-plastic fit beats Hertz alone by more than
     # noise: F test of the extra parameter at 95 % (F(1, N - 2) above its 0.95 quantile)
     F = (ssr_el - ssr) / max(ssr / max(N - 2, 1), 1e-300)
@@ -192,41 +257,95 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     if yielded:
         cov = ssr / max(N - 2, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
         std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-        delta_y = max(_yield_approach(law, r, E_star, sigma_y, nu) for _, _, r, _ in data)
+        delta_y = max(_yield_approach(law, r, E_star, sigma_y, nu) for _, _, r, *_ in data)
         if max(h.max() for h, *_ in data) < 3 * delta_y:
             warnings.append(f"the deepest point is under 3 x the first-yield approach "
                             f"({delta_y:.3g} m): sigma_y rests on the early elastic-plastic "
                             "range")
-        sy_identified = std_lnS < IDENTIFIABLE_RSD
-        sy_reason = ("" if sy_identified else
-                     f"relative uncertainty {std_lnS:.0%} above {IDENTIFIABLE_RSD:.0%}")
+        sigma_param = _yield_parameter(sigma_y, std_lnS)
     else:
         # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
         # (first yield exactly at the deepest point)
-        fit, ssr = efit, ssr_el
+        ssr = ssr_el
         E_star = float(np.exp(efit.x[0]))
         std_lnE = math.sqrt(ssr / max(N - 1, 1) / float((efit.jac.T @ efit.jac)[0, 0]))
-        sigma_y = min(_yield_lower_bound(law, h.max(), r, E_star, nu) for h, _, r, _ in data)
-        std_lnS, sy_identified = math.nan, False
-        sy_reason = "no curve passes first yield beyond noise; the value is a lower bound"
-        warnings.append(f"sigma_y not identified: {sy_reason}")
-    compliance = 0.0 if indenter is None else indenter.compliance
-    E = float(modulus_from_reduced(E_star, nu, compliance))
-    dE = E**2 / ((1 - nu**2) * E_star) * std_lnE      # dE/dE* times the std of E*
-    rms = math.sqrt(ssr / N)
-    fitted = tuple((h, P, f) for (h, P, _, _), f in zip(data, forces(
-        np.log([E_star, sigma_y if yielded else elastic_sy]))))
+        sigma_param = _lower_bound(data, law, E_star, nu)
+        warnings.append(f"sigma_y not identified: {sigma_param.reason}")
     return Calibration(
-        layer=layer, route="sphere",
-        E=Parameter(float(E), float(dE), "Pa", bool(std_lnE < IDENTIFIABLE_RSD)),
-        sigma_y=Parameter(float(sigma_y), float(sigma_y * std_lnS), "Pa", bool(sy_identified),
-                          sy_reason),
-        n=Parameter(float(n), math.nan, "", False,
-                    f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"),
-        nu=nu, uncertainty="least-squares covariance s^2 (J^T J)^-1",
-        rms=rms, points=N,
-        sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
-        model=law.name, warnings=tuple(warnings), fitted_curves=fitted)
+        route="sphere", E=_modulus(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        uncertainty="least-squares covariance s^2 (J^T J)^-1",
+        rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings),
+        fitted_curves=_fitted(data, law, nu, E_star,
+                              sigma_y if yielded else elastic_sy), **common)
+
+
+def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
+    """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading before
+    the first pop-in, then sigma_y with E* fixed on the loading after it. The contact law
+    has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
+    sigma_y adds the propagated std of E* to its own (conditional) one."""
+    # stage 1: P = E* x with x = 4/3 sqrt(R) h^1.5, each curve weighted by 1/P_max
+    pre = [(h[:pop + 1], P[:pop + 1], r, Pm) for h, P, r, Pm, pop in data if pop is not None]
+    x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
+    y = np.concatenate([P / Pm for h, P, r, Pm in pre])
+    if x.size < 3:
+        raise InputError(f"only {x.size} loading points before the pop-in: a Hertz fit of "
+                         "E needs at least 3")
+    E_star = float(x @ y / (x @ x))
+    r1 = y - E_star * x
+    std_lnE = math.sqrt(float(r1 @ r1) / max(x.size - 1, 1) / float(x @ x)) / E_star
+    # stage 2: the rest of each curve (all of a curve without a pop-in)
+    post = [(h[pop + 1:] if pop is not None else h, P[pop + 1:] if pop is not None else P,
+             r, Pm) for h, P, r, Pm, pop in data]
+    post = [d for d in post if d[0].size]
+    N2 = sum(h.size for h, *_ in post)
+    warnings = [f"pop-in at {Pm_pop:.3g} N, {h_pop:.3g} m: E from the {x.size} Hertz points "
+                "before it, sigma_y from the loading after it"
+                for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
+                                      if pop is not None)]
+    sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor if \
+        post else 0.0
+    sigma_param = None
+    if N2 >= 2:
+        def residuals(ln_sy, ln_E=math.log(E_star)):
+            return _residuals(post, law, nu, math.exp(ln_E), math.exp(ln_sy[0]))
+        fit = least_squares(residuals, [math.log(sy0)], diff_step=1e-6, xtol=1e-12,
+                            ftol=1e-12)
+        sigma_y = float(np.exp(fit.x[0]))
+        if any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu) for h, _, r, _ in post):
+            ssr2 = float(fit.fun @ fit.fun)
+            J_S = fit.jac[:, 0]
+            eps = 1e-4
+            J_E = (residuals(fit.x, math.log(E_star) + eps)
+                   - residuals(fit.x, math.log(E_star) - eps)) / (2 * eps)
+            var_cond = ssr2 / max(N2 - 1, 1) / float(J_S @ J_S)
+            sens = -float(J_S @ J_E) / float(J_S @ J_S)     # d ln sigma_y / d ln E*
+            sigma_param = _yield_parameter(sigma_y, math.sqrt(var_cond
+                                                              + (sens * std_lnE)**2))
+    if sigma_param is None:
+        sigma_param = _lower_bound(post or pre, law, E_star, nu)
+        warnings.append(f"sigma_y not identified: {sigma_param.reason}")
+    fitted = _fitted(data, law, nu, E_star, sigma_param.value)
+    resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
+    return Calibration(
+        route="sphere", E=_modulus(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
+                    "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
+        rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
+        warnings=tuple(warnings), fitted_curves=fitted, **common)
+
+
+def _yield_parameter(sigma_y, std_lnS) -> Parameter:
+    ok = bool(std_lnS < IDENTIFIABLE_RSD)
+    return Parameter(float(sigma_y), float(sigma_y * std_lnS), "Pa", ok,
+                     "" if ok else f"relative uncertainty {std_lnS:.0%} above "
+                                   f"{IDENTIFIABLE_RSD:.0%}")
+
+
+def _lower_bound(data, law, E_star, nu) -> Parameter:
+    value = min(_yield_lower_bound(law, h.max(), r, E_star, nu) for h, _, r, *_ in data)
+    return Parameter(value, math.nan, "Pa", False,
+                     "no curve passes first yield beyond noise; the value is a lower bound")
 
 
 def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:
@@ -287,6 +406,11 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
                          "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}")
 
     n_std_ok = math.isfinite(r.n_std) and r.n_std < 0.1
+    fitted = []
+    for c, h_m in zip(curves, hm):
+        h, P = _loading_points(c)
+        C_model = dao_forward(r.E, nu, r.sigma_y, r.n, h_m, tip=tip, E_i=E_i, nu_i=nu_i).C
+        fitted.append((h, P, float(C_model) * h**2))
     return Calibration(
         layer=layer, route="sharp", E=param(r.E, r.E_std, "Pa"),
         sigma_y=param(r.sigma_y, r.sigma_y_std, "Pa"),
@@ -294,7 +418,8 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
                     "" if n_std_ok else "standard deviation above 0.1"),
         nu=nu, uncertainty=how, rms=math.nan, points=len(curves),
         sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
-        model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings)
+        model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings,
+        fitted_curves=tuple(fitted))
 
 
 def size_effect(curves, tip="berkovich") -> NixGaoFit:

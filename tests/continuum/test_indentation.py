@@ -217,3 +217,31 @@ def test_no_load_drop_on_noisy_monotonic_loading():
     h = np.linspace(0, 1e-9, 400)
     P = 50e-9 * (h / 1e-9)**1.5 + 0.1e-9 * rng.standard_normal(h.size)
     assert detect_load_drop(LoadDisplacementCurve(h, P, segment=np.zeros(400, int))) is None
+
+
+def test_hertz_fit_stops_at_a_load_drop():
+    """Displacement control (MD): the Hertz points end at the load drop. K = 40 nN/0.5^1.5
+    nm^1.5 before it (noiseless), so E_r = 3 K / (4 sqrt(R)) to round-off; the points after
+    the drop, if used, would pull E_r down by tens of %."""
+    from filmscale.continuum import elastic_limit
+    curve, h, P = _hertz_with_drop(noise=0.0)
+    K = 40e-9 / (0.5e-9)**1.5
+    R = 2e-9
+    assert elastic_limit(curve) == int(np.flatnonzero(h < 0.5e-9)[-1])
+    assert hertz_fit(curve, R=R).E_r == pytest.approx(3 * K / (4 * np.sqrt(R)), rel=1e-9)
+
+
+def test_contact_oscillations_are_not_pop_ins():
+    """A particle model's contact oscillation (a 1 % dip early in the loading, the shape of
+    the TLSPH ci curve) is a load drop to `detect_load_drop` but not a pop-in to
+    `elastic_limit`, which needs 2 % of P_max; a 30 % drop is one."""
+    from filmscale.continuum import detect_load_drop, elastic_limit
+    from filmscale.continuum.curves import LoadDisplacementCurve
+    h = np.linspace(0, 100e-9, 400)
+    P = 1e-3 * (h / 100e-9)**1.5
+    P = P - 1e-5 * np.exp(-((h - 5e-9) / 1e-9)**2)          # 1 % of P_max
+    curve = LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int))
+    assert detect_load_drop(curve) is not None
+    assert elastic_limit(curve) is None
+    drop, *_ = _hertz_with_drop(noise=0.0)
+    assert elastic_limit(drop) is not None

@@ -37,7 +37,7 @@ import json
 import math
 import sys
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -58,6 +58,10 @@ RESULT_FORMAT = "filmscale.scene_result/1"
 #: MD throughput measured for the quick preset (14 336 atoms x 5 500 steps in 184 s on
 #: 2 ranks, README), atom-steps per second per rank: the cost estimate of an MD unit
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
+#: particle-model throughput (TLSPH, lammps.md), particle-steps per second per core; PERI
+#: (peri/lps) is about 4 times slower per particle
+PARTICLE_STEPS_PER_CORE_S = 2.6e5
+PERI_SLOWDOWN = 4.0
 
 
 @functools.lru_cache(maxsize=None)
@@ -66,17 +70,54 @@ def _md_spec(md: str, base: Path):
     return preset(md) if md in PRESETS else load_spec(base / md)
 
 
+@functools.lru_cache(maxsize=None)
+def _particle_spec(name: str, base: Path):
+    from filmscale.md.particle_spec import PRESETS, load_spec, preset
+    return preset(name, "indent") if name in PRESETS["indent"] else \
+        load_spec(base / name, "indent")
+
+
+SOURCE_KINDS = ("md", "particles", "curves")
+#: default tolerance of the cross-scale check: rms misfit of the calibrated forward model
+#: over the calibration curves, as a fraction of the largest load
+CROSS_CHECK_TOLERANCE = 0.1
+
+
 @dataclass(frozen=True)
 class CalibrationSource:
-    """A layer to calibrate from an MD indentation."""
+    """Where a layer's E and sigma_y come from: an MD indentation (preset or spec file), a
+    particle-model indentation (preset or spec file), or curve files (measured)."""
 
     layer: int
     name: str
-    md: str              #: MD preset name or spec file
+    kind: str                    #: one of SOURCE_KINDS
+    source: tuple[str, ...]      #: the preset or spec file, or the curve files
     np: int = 1
+    tip: str = ""                #: indenter of curve files that do not name one
+    tolerance: float = CROSS_CHECK_TOLERANCE
 
     def spec(self, base: Path):
-        return _md_spec(self.md, Path(base).resolve())
+        """The run's spec (None for curve files)."""
+        if self.kind == "md":
+            return _md_spec(self.source[0], Path(base).resolve())
+        if self.kind == "particles":
+            return _particle_spec(self.source[0], Path(base).resolve())
+        return None
+
+    def curves(self, base: Path) -> list:
+        """The curves of curve files, each with its indenter (``tip`` where unnamed)."""
+        from filmscale.continuum.io import read_curves
+        out = []
+        for name in self.source:
+            for key, c in read_curves(Path(base) / name).items():
+                if not c.indenter:
+                    if not self.tip:
+                        raise InputError(f"target.layers[{self.layer}].calibrate: curve "
+                                         f"{key!r} of {name} names no indenter; give tip "
+                                         "(e.g. \"sphere:5um\" or \"berkovich\")")
+                    c = replace(c, indenter=self.tip)
+                out.append(c)
+        return out
 
 
 @dataclass(frozen=True)
@@ -131,16 +172,37 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
             continue
         where = f"target.layers[{k}].calibrate"
         cal = layer.pop("calibrate")
-        if not isinstance(cal, dict) or set(cal) - {"md", "np"} or "md" not in cal:
-            raise InputError(f"{where} takes md (an MD preset name or spec file) and np; "
-                             f"got {cal!r}")
+        allowed = set(SOURCE_KINDS) | {"np", "tip", "tolerance"}
+        kinds = [key for key in SOURCE_KINDS if isinstance(cal, dict) and key in cal]
+        if not isinstance(cal, dict) or set(cal) - allowed or len(kinds) != 1:
+            raise InputError(f"{where} takes exactly one of md (an MD preset or spec file), "
+                             "particles (a particle-model preset or spec file) or curves (a "
+                             f"list of curve files), and np, tip, tolerance; got {cal!r}")
+        kind = kinds[0]
         np_ = cal.get("np", 1)
         if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
             raise InputError(f"{where}.np = {np_!r} must be an integer in [1, 4096]")
+        given = cal[kind]
+        files = given if kind == "curves" else [given]
+        if not isinstance(files, list) or not files or \
+                not all(isinstance(f, str) for f in files):
+            raise InputError(f"{where}.{kind} = {given!r} must be "
+                             + ("a non-empty list of file names" if kind == "curves"
+                                else "a preset name or a spec file name"))
+        tip = cal.get("tip", "")
+        if tip:
+            from filmscale.continuum.tips import parse_tip
+            parse_tip(tip)
+        tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
+                         low=1e-4, high=1.0)
         if "E" in layer and "sigma_y" in layer:
-            continue            # given properties win: no MD run (rule 1)
-        src = CalibrationSource(k, str(layer.get("name", f"layer {k}")), str(cal["md"]), np_)
-        src.spec(base)          # the spec's own checks, before any work
+            continue            # given properties win: no calibration run (rule 1)
+        src = CalibrationSource(k, str(layer.get("name", f"layer {k}")), kind, tuple(files),
+                                np_, str(tip), tol)
+        if kind == "curves":
+            src.curves(base)    # readable, each with an indenter, before any work
+        else:
+            src.spec(base)      # the spec's own checks, before any work
         sources.append(src)
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)
@@ -184,16 +246,29 @@ class Plan:
         return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
 
 
-def _md_step(src: CalibrationSource, base: Path) -> Step:
+def _calibration_step(src: CalibrationSource, base: Path) -> Step:
+    """The plan step of one calibration source, its cost from measured throughputs."""
+    fit = (f"then a calibration (sphere tips: least squares to the contact law; sharp tips: "
+           f"Dao reverse analysis) and a cross-scale check to {src.tolerance:.0%} rms")
     spec = src.spec(base)
-    atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
-    cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np)
-    return Step(f"calibrate {src.name}",
-                f"MD indentation ({src.md}: {atoms} atoms, {steps} steps, {src.np} rank(s)) "
-                "then a sphere calibration (least squares to the contact law)",
+    if src.kind == "md":
+        atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
+        cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np)
+        model = (f"MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, {src.np} "
+                 f"rank(s)) {fit}")
+    elif src.kind == "particles":
+        from filmscale.md.particles import estimated_steps
+        n, steps = spec.grid.n_particles, estimated_steps(spec)
+        rate = PARTICLE_STEPS_PER_CORE_S / (PERI_SLOWDOWN if spec.method == "peri" else 1)
+        cost = n * steps / (rate * src.np)
+        model = (f"particle-model indentation ({src.source[0]}: {spec.method}, {n} particles, "
+                 f"about {steps} steps, {src.np} rank(s)) {fit}")
+    else:
+        cost = 0.0
+        model = f"curves from {', '.join(src.source)} {fit}"
+    return Step(f"calibrate {src.name}", model,
                 "the layer's E and sigma_y are not given (rule 1)",
-                "the fit's own standard deviations, reported with the calibration",
-                cost)
+                "the fit's own standard deviations, reported with the calibration", cost)
 
 
 def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
@@ -293,9 +368,9 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
 
 def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None
                ) -> Plan:
-    """The whole plan; impact steps wait for the calibrations unless all layers are known."""
-    steps = [_md_step(s, pipeline.base) for s in pipeline.calibrations
-             if calibrated is None or s.layer not in calibrated]
+    """The whole plan; impact steps wait for the calibrations unless all layers are known.
+    The calibration steps stay in the plan once done, so that the stored plan is complete."""
+    steps = [_calibration_step(s, pipeline.base) for s in pipeline.calibrations]
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
     if missing:
         steps.append(Step("impact", "chosen after calibration",
@@ -337,6 +412,12 @@ def _say(message: str):
     print(f"filmscale: {message}", file=sys.stderr, flush=True)
 
 
+def _progress_bar(total: int):
+    from tqdm import tqdm
+    bar = tqdm(total=total, unit="step", disable=None, file=sys.stderr)
+    return bar, lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
+
+
 def md_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
     """Run (or resume, or reuse) the MD indentation of a calibration source."""
     from filmscale.md.engine import EngineOptions
@@ -346,11 +427,9 @@ def md_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool
     if _done(path) is not None:
         return path, True
     _say(f"MD indentation {spec.name} for {src.name} in {path}")
-    from tqdm import tqdm
-    bar = tqdm(total=spec.protocol.schedule().s_end, unit="step", disable=None, file=sys.stderr)
+    bar, progress = _progress_bar(spec.protocol.schedule().s_end)
     try:
-        run = run_indentation(spec, path, EngineOptions(np=src.np),
-                              progress=lambda step, total: bar.update(max(0, step - bar.n)))
+        run = run_indentation(spec, path, EngineOptions(np=src.np), progress=progress)
     finally:
         bar.close()
     np.savez(path / "curve.npz", h=run.curve.h, P=run.curve.P, segment=run.curve.segment)
@@ -360,7 +439,41 @@ def md_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool
     return path, False
 
 
+def particle_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
+    """Run (or reuse) the particle-model indentation of a calibration source."""
+    from filmscale.md.engine import EngineOptions, lammps_info
+    from filmscale.md.particle_run import run_particles
+    from filmscale.md.particles import estimated_steps
+    spec = src.spec(base)
+    path = unit_dir(store, "particle-indent", {"spec": spec.to_dict(), "np": src.np})
+    if _done(path) is not None:
+        return path, True
+    _say(f"particle-model indentation {spec.name} ({spec.method}) for {src.name} in {path}")
+    bar, progress = _progress_bar(estimated_steps(spec))
+    try:
+        run = run_particles(spec, path, EngineOptions(np=src.np, omp_threads=1),
+                            progress=progress)
+    finally:
+        bar.close()
+    curve = run.curve()
+    np.savez(path / "curve.npz", h=curve.h, P=curve.P, segment=curve.segment)
+    _finish(path, {"indenter": curve.indenter, "wall_time": run.wall_time,
+                   "steps": run.steps, "particles": spec.grid.n_particles,
+                   "method": spec.method, **lammps_info()})
+    return path, False
+
+
+def source_unit(src: CalibrationSource, base: Path, store: Path
+                ) -> tuple[Path | None, bool, list]:
+    """The source's run unit (None for curve files), whether it was reused, its curves."""
+    if src.kind == "curves":
+        return None, True, src.curves(base)
+    path, reused = (md_unit if src.kind == "md" else particle_unit)(src, base, store)
+    return path, reused, [md_curve(path)]
+
+
 def md_curve(path: Path):
+    """The curve of a finished MD or particle unit."""
     from filmscale.continuum.curves import LoadDisplacementCurve
     d = np.load(path / "curve.npz")
     meta = _done(path)
@@ -368,20 +481,59 @@ def md_curve(path: Path):
                                  indenter=meta["indenter"], meta={"source": str(path)})
 
 
-def calibration_unit(src: CalibrationSource, md_path: Path, nu: float, law: str,
-                     store: Path) -> tuple[Calibration, Path, bool]:
-    path = unit_dir(store, "calibration", {"md": md_path.name, "nu": nu, "law": law,
-                                          "layer": src.name})
+def _file_digest(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
+                     ) -> Calibration:
+    """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis. Tips of MD and
+    particle runs are rigid; tips of curve files are taken as diamond."""
+    from filmscale.continuum.materials import DIAMOND
+    from filmscale.continuum.reverse import E_I_DAO
+    from filmscale.continuum.tips import Sphere, parse_tip
+    from .calibration import calibrate_sharp
+    rigid = src.kind != "curves"
+    spheres = [isinstance(parse_tip(c.indenter), Sphere) for c in curves]
+    if all(spheres):
+        return calibrate_sphere(curves, nu=nu, law=law, layer=src.name,
+                                indenter=None if rigid else DIAMOND)
+    tips = {c.indenter for c in curves}
+    if any(spheres) or len(tips) != 1:
+        raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
+                         f"({', '.join(sorted(tips))}); calibrate from one tip shape")
+    return calibrate_sharp(curves, nu=nu, tip=tips.pop(), layer=src.name,
+                           E_i=math.inf if rigid else E_I_DAO)
+
+
+def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
+                     law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
+    """Calibrate (or reuse the calibration of) a source's curves; record the cross-scale
+    check: the calibrated forward model against the curves."""
+    origin = run_path.name if run_path is not None else \
+        {f: _file_digest(Path(base) / f) for f in src.source}
+    path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
+                                          "layer": src.name, "tip": src.tip,
+                                          "tolerance": src.tolerance})
     record = _done(path)
     reused = record is not None
     if not reused:
         path.mkdir(parents=True, exist_ok=True)
-        cal = calibrate_sphere(md_curve(md_path), nu=nu, law=law, layer=src.name)
-        (h, P, F), = cal.fitted_curves
-        np.savez(path / "fit.npz", h=h, P=P, P_model=F)
-        record = _finish(path, cal.to_dict())
-    d = np.load(path / "fit.npz")
-    cal = _calibration_from_dict(record, ((d["h"], d["P"], d["P_model"]),))
+        cal = calibrate_curves(src, curves, nu, law)
+        check = cal.cross_check(src.tolerance)
+        fitted = {}
+        for i, (h, P, F) in enumerate(cal.fitted_curves):
+            fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
+        with atomic_path(path / "fit.npz") as tmp:
+            with open(tmp, "wb") as f:
+                np.savez(f, **fitted)
+        record = _finish(path, {**cal.to_dict(), "cross_check": check.to_dict()})
+    record = dict(record)
+    record.pop("cross_check")
+    with np.load(path / "fit.npz") as d:
+        fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
+                       for i in range(len(d.files) // 3))
+    cal = _calibration_from_dict(record, fitted)
     return cal, path, reused
 
 
@@ -407,17 +559,19 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     store.mkdir(parents=True, exist_ok=True)
     units = {}
     calibrations: dict[int, Calibration] = {}
-    md_records: dict[int, dict] = {}
+    run_records: dict[str, dict] = {}
     for src in pipeline.calibrations:
-        md_path, reused = md_unit(src, pipeline.base, store)
-        units[md_path.name] = "reused" if reused else "ran"
-        md_records[src.layer] = _done(md_path)
+        run_path, reused, curves = source_unit(src, pipeline.base, store)
+        if run_path is not None:
+            units[run_path.name] = "reused" if reused else "ran"
+            run_records[f"{src.kind}_{src.layer}"] = _done(run_path)
         layer = pipeline.data["target"]["layers"][src.layer]
         law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
-        cal, cal_path, reused = calibration_unit(src, md_path, float(layer["nu"]), law, store)
+        cal, cal_path, reused = calibration_unit(src, run_path, curves, float(layer["nu"]),
+                                                 law, pipeline.base, store)
         units[cal_path.name] = "reused" if reused else "ran"
         calibrations[src.layer] = cal
-        _say(cal.summary())
+        _say(cal.summary() + "\n  " + cal.cross_check(src.tolerance).text())
     materials = {k: c.material() for k, c in calibrations.items()}
     plan = plan_scene(pipeline, materials)
     scene = pipeline.completed(materials)
@@ -433,7 +587,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     else:
         units[impact_path.name] = "reused"
     path = write_scene_result(out, pipeline, scene, plan, calibrations, impact_path,
-                              md_records)
+                              run_records)
     return SceneResult(path, plan, units)
 
 
@@ -485,13 +639,15 @@ def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndar
 
 def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                        calibrations: dict[int, Calibration], impact_path: Path,
-                       md_records: dict[int, dict]) -> Path:
+                       run_records: dict[str, dict]) -> Path:
     """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
     profile, impact results; SI datasets with unit attributes; provenance attributes, with
-    each MD unit's record (LAMMPS version, potential checksum, seeds) as ``md_<layer>``."""
+    each run unit's record as ``md_<layer>`` (LAMMPS version, potential checksum, seeds) or
+    ``particles_<layer>`` (LAMMPS version, method, particles, steps)."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    extra = {f"md_{k}": json.dumps(r) for k, r in md_records.items()}
+    tolerances = {s.layer: s.tolerance for s in pipeline.calibrations}
+    extra = {k: json.dumps(r) for k, r in run_records.items()}
     with atomic_h5(out) as f:
         f.attrs["format"] = RESULT_FORMAT
         for k, v in provenance(scene=pipeline.source, **extra).items():
@@ -508,9 +664,12 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                 c.attrs[name] = p.value
                 c.attrs[f"{name}_std"] = p.std
                 c.attrs[f"{name}_identified"] = p.identified
-            (h, P, F), = cal.fitted_curves
-            for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
-                c.create_dataset(name, data=data).attrs["units"] = unit
+            check = cal.cross_check(tolerances[k])
+            c.attrs["cross_check"] = json.dumps(check.to_dict())
+            for i, (h, P, F) in enumerate(cal.fitted_curves):
+                curve = c.create_group(f"curve_{i}")
+                for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
+                    curve.create_dataset(name, data=data).attrs["units"] = unit
         prof = profile_table(scene, scene.impactor.radius)
         p = f.create_group("profile")
         for name, unit in (("delta", "m"), ("E_p", "Pa"), ("sigma_y", "Pa"), ("nu", "1")):

@@ -15,6 +15,7 @@ import h5py
 from filmscale.continuum.errors import InputError
 from filmscale.continuum.io import atomic_path
 
+from .calibration import CrossCheck
 from .pipeline import RESULT_FORMAT
 from .plots import plt
 
@@ -26,11 +27,17 @@ def _png(fig) -> str:
     return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
 
 
-def _calibration_figure(group) -> str:
+def _calibration_figure(group, model: str) -> str:
+    """Each calibration curve (points) and the calibrated forward model (line)."""
     fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
-    h, P, F = (group[k][()] for k in ("h", "P", "P_model"))
-    ax.plot(h * 1e9, P * 1e9, ".", ms=3, label="curve (data)")
-    ax.plot(h * 1e9, F * 1e9, "-", label="calibrated contact law")
+    curves = sorted(k for k in group if k.startswith("curve_"))
+    for i, key in enumerate(curves):
+        h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
+        color = f"C{i % 10}"
+        ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=color,
+                label="calibration curve" if i == 0 else None)
+        ax.plot(h * 1e9, F * 1e9, "-", color=color,
+                label=f"forward: {model[:40]}" if i == 0 else None)
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel("load P (nN)")
     ax.set_title(str(group.attrs["layer"]))
@@ -95,6 +102,7 @@ def write_report(result, out=None) -> Path:
         for key in f["calibration"]:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
+            check = CrossCheck(**json.loads(g.attrs["cross_check"]))
             rows = [(name, f"{cal[name]['value']:.4g}",
                      f"{cal[name]['std']:.3g}" if cal[name]["std"] == cal[name]["std"]
                      else "-", cal[name]["unit"],
@@ -105,7 +113,8 @@ def write_report(result, out=None) -> Path:
                       f"{html.escape(cal['uncertainty'])}; rms misfit "
                       f"{cal['rms']:.2%} of the largest load over {cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
-                      _calibration_figure(g)]
+                      f"<p><b>{html.escape(check.text())}</b></p>",
+                      _calibration_figure(g, cal["model"])]
             parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
         radius = float(f["impact/point/radius"][()])
         parts += ["<h2>Depth profile</h2>", _profile_figure(f["profile"], radius),

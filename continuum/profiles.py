@@ -9,7 +9,10 @@ model combines E_p with the impactor into the reduced modulus. Three kinds:
 - `StackProfile`: a layer stack with the Gao, Chiu & Lee (1992) weights [C2] and their
   multilayer extension [R] (physics.md section 7), at the contact radius a = sqrt(R delta)
   of Hertz contact. Weighted quantities: E_p and sigma_y with I0, nu with I1. The weighting of
-  sigma_y is the same heuristic as that of the modulus [R].
+  sigma_y is the same heuristic as that of the modulus [R]. Optionally each layer's sigma_y
+  carries the Nix-Gao size effect sigma_y sqrt(1 + h*/delta) (Nix & Gao 1998, hardness taken
+  proportional to sigma_y, depth read as the approach), so that nanometre (MD) and
+  micrometre strengths are one profile.
 - `TableProfile`: measured (or simulated) indentation tables (contact depth, E_r, H), fitted
   piecewise linearly and read with contact depth = delta, sigma_y = H / k_T, as in the seed
   dissertation (section 3.5), with k_T the plateau of the contact law in use.
@@ -117,11 +120,19 @@ class StackProfile(DepthProfile):
     """Layer stack weighted with Gao's I0 (E_p, sigma_y) and I1 (nu) at a = sqrt(R delta)."""
 
     stack: LayerStack
+    #: Nix-Gao length h* (m) of each layer, top first, then the substrate; missing = 0
+    h_star: tuple[float, ...] = ()
     _depths: np.ndarray = field(init=False, repr=False, compare=False)
     _props: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         mats = self.stack.materials()
+        if len(self.h_star) > len(mats):
+            raise InputError(f"h_star has {len(self.h_star)} values for {len(mats)} materials "
+                             "(layers and substrate)")
+        h_star = tuple(check_real(f"h_star[{i}]", h, low=0.0, high=1e-3, unit="m")
+                       for i, h in enumerate(self.h_star))
+        object.__setattr__(self, "h_star", h_star + (0.0,) * (len(mats) - len(h_star)))
         object.__setattr__(self, "_depths", np.asarray(self.stack.interface_depths, dtype=float))
         object.__setattr__(self, "_props", np.array(
             [[m.plane_strain_modulus for m in mats], [m.sigma_y for m in mats],
@@ -137,19 +148,29 @@ class StackProfile(DepthProfile):
         nu = w1 @ self._props[2]
         return w1, _layer_weights(_i0(x, nu[..., None], angle, log_term))
 
+    def strengths(self, delta):
+        """Each material's sigma_y at approach delta (last axis), Pa, Nix-Gao scaled."""
+        s_y = self._props[1]
+        if not any(self.h_star):
+            return s_y
+        return s_y * np.sqrt(1.0 + np.asarray(self.h_star)
+                             / np.asarray(delta, dtype=float)[..., None])
+
     def properties(self, delta, R):
+        e_p, _, nus = self._props
+        s_y = self.strengths(delta)
         if self._depths.size == 0:
-            return UniformProfile(self.stack.substrate).properties(delta, R)
-        e_p, s_y, nus = self._props
+            e, _, nu = UniformProfile(self.stack.substrate).properties(delta, R)
+            return e, np.broadcast_to(s_y[..., -1], e.shape).copy(), nu
         w1, w0 = self.weights(delta, R)
-        return w0 @ e_p, w0 @ s_y, w1 @ nus
+        return w0 @ e_p, np.sum(w0 * s_y, axis=-1), w1 @ nus
 
     def materials(self) -> tuple[ElasticPlastic, ...]:
         return self.stack.materials()
 
     def describe(self) -> dict:
         return {"kind": "stack", "weighting": "gao-multilayer",
-                "contact_radius": "sqrt(R delta)",
+                "contact_radius": "sqrt(R delta)", "nix_gao_h_star": list(self.h_star),
                 "layers": [{"thickness": lay.thickness, **_material_dict(lay.material)}
                            for lay in self.stack.layers],
                 "substrate": _material_dict(self.stack.substrate)}

@@ -23,7 +23,7 @@ Units: SI throughout (m, N, Pa).
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import brentq, least_squares
@@ -75,6 +75,9 @@ class Calibration:
     sources: tuple[str, ...]
     model: str                      #: contact law or reverse-analysis method
     warnings: tuple[str, ...] = ()
+    #: Nix-Gao length of sigma_y (m) when curves at several depths give one; sigma_y is
+    #: then the macroscopic (deep) value
+    h_star: Parameter | None = None
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:
@@ -111,6 +114,8 @@ class Calibration:
         if not math.isnan(self.rms):
             lines.append(f"  fit: rms misfit {self.rms:.2%} of the largest load over "
                          f"{self.points} points")
+        if self.h_star is not None:
+            lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -420,6 +425,37 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
         sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
         model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings,
         fitted_curves=tuple(fitted))
+
+
+def with_size_effect(cal: Calibration, curves, tip="berkovich", *, E_i: float = E_I_DAO,
+                     nu_i: float = NU_I_DAO) -> Calibration:
+    """``cal`` with the Nix-Gao depth dependence of sigma_y from sharp curves at three or
+    more maximum depths: each curve is reversed on its own (Dao), and
+    sigma_y^2 = sigma_y0^2 (1 + h*/h_m) is fitted as a line in 1/h_m (`nix_gao_fit`; the
+    Nix-Gao form written for sigma_y rather than hardness, because the depth profile scales
+    sigma_y: hardness grows more slowly than sigma_y and would give a smaller h*).
+    sigma_y becomes the macroscopic sigma_y0 with the fit's standard error. Unchanged (with a
+    warning) when sigma_y does not fall with depth."""
+    inputs = np.array([sharp_inputs(c, tip) for c in curves])
+    C, _, S, W, h_m = inputs.T
+    sigma = np.array([dao_reverse(C[i], S[i], W[i], h_m[i], tip=tip, nu=cal.nu, E_i=E_i,
+                                  nu_i=nu_i).sigma_y for i in range(len(curves))])
+    try:
+        fit = nix_gao_fit(h_m, sigma)
+    except InputError as err:
+        return replace(cal, warnings=cal.warnings + (f"no size effect: {err}",))
+    if not fit.h_star > 0:
+        return replace(cal, warnings=cal.warnings + (
+            f"no size effect: the Nix-Gao fit of sigma_y over {fit.n} depths gives h* = "
+            f"{fit.h_star:.3g} m",))
+    ok = fit.h_star_std < IDENTIFIABLE_RSD * fit.h_star
+    return replace(
+        cal, sigma_y=replace(cal.sigma_y, value=fit.H0, std=fit.H0_std),
+        h_star=Parameter(fit.h_star, fit.h_star_std, "m", bool(ok),
+                         "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}"),
+        warnings=cal.warnings + (
+            f"sigma_y is the macroscopic sigma_y0 of a Nix-Gao fit over {fit.n} depths "
+            f"({h_m.min():.3g}-{h_m.max():.3g} m, R^2 {fit.r2:.3f})",))
 
 
 def size_effect(curves, tip="berkovich") -> NixGaoFit:

@@ -3,9 +3,11 @@
 A pipeline scene is an impact scene (`workflows.scene`, docs/scenes.md) plus:
 
 - ``[target.layers.calibrate]`` on a layer: where its E and sigma_y come from when the scene
-  does not give them: ``md = "quick"`` (an MD preset) or ``md = "film.toml"`` (an MD spec
-  file), with ``np`` MPI ranks. The layer still states ``nu`` (a sphere's loading does not
-  separate E and nu).
+  does not give them: ``md`` (an MD preset or spec file), ``particles`` (a particle-model
+  preset or spec file) or ``curves`` (curve files, ``tip`` where they name none), with ``np``
+  MPI ranks and the cross-scale check's ``tolerance``. The layer still states ``nu`` (a
+  sphere's loading does not separate E and nu). Sharp curves at three or more depths also
+  give the layer's Nix-Gao length h* (the scene's ``h_star``).
 - ``[outputs]``: ``want`` = any of maxima, history, map, restitution, residual_damage,
   tangential; ``tolerance`` (relative) for the planner's choices.
 - ``impactor.friction`` and ``impactor.angle`` (degrees from the normal).
@@ -48,7 +50,7 @@ from filmscale.continuum.io import atomic_h5, atomic_path, read_text
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.continuum.profiles import StackProfile
 
-from .calibration import Calibration, Parameter, calibrate_sphere
+from .calibration import Calibration, Parameter, calibrate_sphere, with_size_effect
 from .provenance import provenance
 from .scene import Scene, read_toml, scene_from_data
 
@@ -135,14 +137,24 @@ class PipelineScene:
     friction: float
     angle: float
 
-    def completed(self, materials: dict[int, ElasticPlastic]) -> Scene:
-        """The impact scene with each calibrated layer's E and sigma_y filled in."""
-        data = copy.deepcopy(self.data)
-        for k, mat in materials.items():
-            layer = data["target"]["layers"][k]
-            layer.setdefault("E", mat.E)
-            layer.setdefault("sigma_y", mat.sigma_y)
-        return scene_from_data(data, self.text, self.source, self.base)
+    def completed(self, materials: dict[int, ElasticPlastic],
+                  h_star: dict[int, float] | None = None) -> Scene:
+        """The impact scene with each calibrated layer's E and sigma_y (and the Nix-Gao
+        length h*, where calibrated) filled in."""
+        return scene_from_data(_filled(self.data, materials, h_star), self.text, self.source,
+                               self.base)
+
+
+def _filled(data: dict, materials: dict[int, ElasticPlastic],
+            h_star: dict[int, float] | None) -> dict:
+    data = copy.deepcopy(data)
+    for k, mat in materials.items():
+        layer = data["target"]["layers"][k]
+        layer.setdefault("E", mat.E)
+        layer.setdefault("sigma_y", mat.sigma_y)
+    for k, h in (h_star or {}).items():
+        data["target"]["layers"][k].setdefault("h_star", h)
+    return data
 
 
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
@@ -366,8 +378,8 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
                                "map": "map" in outputs, "history": path == "time"})
 
 
-def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None
-               ) -> Plan:
+def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None,
+               h_star: dict[int, float] | None = None) -> Plan:
     """The whole plan; impact steps wait for the calibrations unless all layers are known.
     The calibration steps stay in the plan once done, so that the stored plan is complete."""
     steps = [_calibration_step(s, pipeline.base) for s in pipeline.calibrations]
@@ -376,7 +388,7 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
         steps.append(Step("impact", "chosen after calibration",
                           "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
         return Plan(tuple(steps))
-    scene = pipeline.completed(calibrated or {})
+    scene = pipeline.completed(calibrated or {}, h_star)
     impact = plan_impact(scene, pipeline.outputs, pipeline.tolerance, pipeline.friction,
                          pipeline.angle)
     return Plan(tuple(steps) + impact.steps, impact.decisions)
@@ -502,8 +514,11 @@ def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
     if any(spheres) or len(tips) != 1:
         raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
                          f"({', '.join(sorted(tips))}); calibrate from one tip shape")
-    return calibrate_sharp(curves, nu=nu, tip=tips.pop(), layer=src.name,
-                           E_i=math.inf if rigid else E_I_DAO)
+    tip = tips.pop()
+    cal = calibrate_sharp(curves, nu=nu, tip=tip, layer=src.name,
+                          E_i=math.inf if rigid else E_I_DAO)
+    depths = {round(float(np.max(c.h)), 12) for c in curves}
+    return with_size_effect(cal, curves, tip) if len(depths) >= 3 else cal
 
 
 def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
@@ -543,6 +558,8 @@ def _calibration_from_dict(d: dict, fitted) -> Calibration:
         d[key] = Parameter(**d[key])
     for key in ("sources", "warnings"):
         d[key] = tuple(d[key])
+    if d.get("h_star") is not None:
+        d["h_star"] = Parameter(**d["h_star"])
     return Calibration(**d, fitted_curves=fitted)
 
 
@@ -573,10 +590,12 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
         calibrations[src.layer] = cal
         _say(cal.summary() + "\n  " + cal.cross_check(src.tolerance).text())
     materials = {k: c.material() for k, c in calibrations.items()}
-    plan = plan_scene(pipeline, materials)
-    scene = pipeline.completed(materials)
+    h_star = {k: c.h_star.value for k, c in calibrations.items() if c.h_star is not None}
+    plan = plan_scene(pipeline, materials, h_star)
+    scene = pipeline.completed(materials, h_star)
     _say("plan:\n" + plan.text())
-    impact_path = unit_dir(store, "impact", {"scene": impact_inputs(pipeline, materials),
+    impact_path = unit_dir(store, "impact", {"scene": impact_inputs(pipeline, materials,
+                                                                    h_star),
                                             "plan": plan.decisions})
     record = _done(impact_path)
     if record is None:
@@ -591,12 +610,10 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     return SceneResult(path, plan, units)
 
 
-def impact_inputs(pipeline: PipelineScene, materials) -> dict:
+def impact_inputs(pipeline: PipelineScene, materials, h_star=None) -> dict:
     """The complete impact inputs: the scene data with calibrated values filled in."""
-    data = copy.deepcopy(pipeline.data)
-    for k, m in materials.items():
-        data["target"]["layers"][k].update(E=m.E, sigma_y=m.sigma_y)
-    return {"data": data, "outputs": sorted(pipeline.outputs),
+    return {"data": _filled(pipeline.data, materials, h_star),
+            "outputs": sorted(pipeline.outputs),
             "tolerance": pipeline.tolerance}
 
 
@@ -659,8 +676,10 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
             c = g.create_group(str(k))
             c.attrs["layer"] = cal.layer
             c.attrs["calibration"] = json.dumps(cal.to_dict())
-            for name in ("E", "sigma_y", "n"):
+            for name in ("E", "sigma_y", "n", "h_star"):
                 p = getattr(cal, name)
+                if p is None:
+                    continue
                 c.attrs[name] = p.value
                 c.attrs[f"{name}_std"] = p.std
                 c.attrs[f"{name}_identified"] = p.identified

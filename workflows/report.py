@@ -107,7 +107,7 @@ def write_report(result, out=None) -> Path:
                      f"{cal[name]['std']:.3g}" if cal[name]["std"] == cal[name]["std"]
                      else "-", cal[name]["unit"],
                      "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
-                    for name in ("E", "sigma_y", "n")]
+                    for name in ("E", "sigma_y", "n", "h_star") if cal.get(name)]
             parts += [f"<h3>{html.escape(cal['layer'])}</h3>",
                       f"<p>{html.escape(cal['model'])}; uncertainty: "
                       f"{html.escape(cal['uncertainty'])}; rms misfit "

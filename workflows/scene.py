@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum import (DIAMOND, LAW_NAMES, UNLOADING_MODELS, ContactLaw, ElasticPlastic,
-                                 ImpactModel, Layer, LayerStack, TableProfile, axis, contact_law)
+                                 ImpactModel, Layer, LayerStack, StackProfile, TableProfile, axis,
+                                 contact_law)
 from filmscale.continuum.errors import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
                                         VELOCITY_RANGE, InputError, check_choice,
                                         check_positive, check_real)
@@ -25,8 +26,8 @@ _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
     "impactor": {"shape", "radius", "mass", "velocity", "E", "nu", "name"},
     "target": {"substrate", "layers", "profile"},
-    "target.substrate": _MATERIAL_KEYS,
-    "target.layers": _MATERIAL_KEYS | {"thickness"},
+    "target.substrate": _MATERIAL_KEYS | {"h_star"},
+    "target.layers": _MATERIAL_KEYS | {"thickness", "h_star"},
     "target.profile": {"file", "h_c", "E_r", "H", "breakpoints", "indenter", "nu"},
     "model": {"contact_law", "unloading", "limiting_pressure_factor", "path", "rtol"},
     "map": {"velocity", "radius", "spacing"},
@@ -48,6 +49,12 @@ def _required(where: str, table: dict, key: str):
     if key not in table:
         raise InputError(f"{where}.{key} is missing")
     return table[key]
+
+
+def _h_star(where: str, table: dict) -> float:
+    """The Nix-Gao length of a layer (m): its sigma_y becomes sigma_y sqrt(1 + h*/delta)."""
+    return check_real(f"{where}.h_star", table.get("h_star", 0.0), low=0.0, high=1e-3,
+                      unit="m")
 
 
 def _material(where: str, table: dict, require_yield: bool = True) -> ElasticPlastic:
@@ -109,6 +116,8 @@ class Scene:
     path: str = "fast"
     rtol: float = 1e-8
     profile: TableProfile | None = None
+    #: Nix-Gao length h* (m) of each layer, then the substrate (all 0: no size effect)
+    h_star: tuple[float, ...] = ()
     map: MapSpec = field(default_factory=MapSpec)
     title: str = ""
     text: str = ""
@@ -122,12 +131,16 @@ class Scene:
         """The impact model of the full target (measured profile, else the Gao-weighted
         stack)."""
         target = self.profile if self.profile is not None else self.stack
+        if self.profile is None and any(self.h_star):
+            target = StackProfile(self.stack, self.h_star)
         return ImpactModel(target, self.law, self.impactor.material, self.unloading)
 
     def substrate_model(self) -> ImpactModel:
         """The same impact on the bare substrate (the homogeneous reference)."""
-        return ImpactModel(self.stack.substrate, self.law, self.impactor.material,
-                           self.unloading)
+        target = self.stack.substrate
+        if self.h_star and self.h_star[-1] > 0:
+            target = StackProfile(LayerStack((), target), (self.h_star[-1],))
+        return ImpactModel(target, self.law, self.impactor.material, self.unloading)
 
 
 def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> TableProfile:
@@ -209,19 +222,25 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         material=imp_material, name=str(imp.get("name", "impactor")))
 
     target = _check_keys("target", _required("scene", data, "target"), _SECTIONS["target"])
-    substrate = _material("target.substrate", _required("target", target, "substrate"))
+    raw_sub = _check_keys("target.substrate", _required("target", target, "substrate"),
+                          _SECTIONS["target.substrate"])
+    substrate = _material("target.substrate",
+                          {k: v for k, v in raw_sub.items() if k != "h_star"})
     raw_layers = target.get("layers", [])
     if not isinstance(raw_layers, list):
         raise InputError("target.layers must be an array of tables ([[target.layers]])")
-    layers = []
+    layers, h_star = [], []
     for i, raw in enumerate(raw_layers):
         where = f"target.layers[{i}]"
         _check_keys(where, raw, _SECTIONS["target.layers"])
         thickness = check_real(f"{where}.thickness", _required(where, raw, "thickness"),
                                low=0.0, low_open=True, high=THICKNESS_MAX, unit="m")
-        mat = _material(where, {k: v for k, v in raw.items() if k != "thickness"})
+        mat = _material(where, {k: v for k, v in raw.items()
+                                if k not in ("thickness", "h_star")})
         layers.append(Layer(thickness, mat))
+        h_star.append(_h_star(where, raw))
     stack = LayerStack(tuple(layers), substrate)
+    h_star.append(_h_star("target.substrate", raw_sub))
 
     model = _check_keys("model", data.get("model", {}), _SECTIONS["model"])
     law_name = check_choice("model.contact_law", model.get("contact_law", "komvopoulos-ye"),
@@ -241,6 +260,9 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     profile = None
     if "profile" in target:
         profile = _profile(target["profile"], stack, law, base)
+        if any(h_star):
+            raise InputError("h_star (the Nix-Gao size effect of a layer) does not apply to a "
+                             "measured target.profile, which holds its depth dependence")
 
     mp = _check_keys("map", data.get("map", {}), _SECTIONS["map"])
     map_spec = MapSpec(
@@ -248,7 +270,8 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
         spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
     return Scene(impactor=impactor, stack=stack, law=law, unloading=unloading, path=path,
-                 rtol=rtol, profile=profile, map=map_spec, title=str(data.get("title", "")),
+                 rtol=rtol, profile=profile, h_star=tuple(h_star) if any(h_star) else (),
+                 map=map_spec, title=str(data.get("title", "")),
                  text=text, source=source)
 
 

@@ -102,3 +102,24 @@ def test_table_input_errors_name_the_column():
     with pytest.raises(InputError, match="without enough indents"):
         TableProfile.from_measurements([1e-9, 2e-9, 3e-9], [1e11] * 3, [1e10] * 3,
                                        breakpoints=[1.1e-9, 1.2e-9])
+
+
+def test_nix_gao_size_effect_scales_each_layers_sigma_y():
+    """sigma_y(delta) = sigma_y sqrt(1 + h*/delta) (Nix & Gao 1998): exact on a homogeneous
+    target, the macroscopic value when delta >> h*, and on a stack only the film's share
+    (its I0 weight) moves."""
+    from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
+    sub = ElasticPlastic(90e9, 0.25, 2.4e9)
+    film = ElasticPlastic(200e9, 0.3, 8e9)
+    delta = np.geomspace(1e-10, 1e-5, 30)
+    _, sy, _ = StackProfile(LayerStack((), sub), (1e-7,)).properties(delta, 1e-6)
+    np.testing.assert_allclose(sy, 2.4e9 * np.sqrt(1 + 1e-7 / delta), rtol=1e-14)
+    stack = LayerStack([Layer(5e-9, film)], sub)
+    plain, sized = StackProfile(stack), StackProfile(stack, (2e-8,))
+    _, w0 = plain.weights(delta, 1e-6)
+    extra = sized.properties(delta, 1e-6)[1] - plain.properties(delta, 1e-6)[1]
+    # atol: the difference of two sums of order 1e9 Pa loses about 1e-7 Pa to round-off
+    np.testing.assert_allclose(extra, w0[:, 0] * 8e9 * (np.sqrt(1 + 2e-8 / delta) - 1),
+                               rtol=1e-12, atol=1e-3)
+    with pytest.raises(InputError, match="h_star"):
+        StackProfile(stack, (1e-8, 1e-8, 1e-8))

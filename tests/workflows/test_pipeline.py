@@ -1,6 +1,8 @@
 """The scene pipeline: the planner's rules on scenes built to trigger each, and a scene run
 end to end on the MD ci preset (interrupted, resumed, then reused without LAMMPS)."""
 
+import json
+
 import h5py
 import numpy as np
 import pytest
@@ -192,7 +194,6 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
         g = f["calibration/0"]
         assert abs(g.attrs["E"] - E) < 3 * g.attrs["E_std"]
         assert abs(g.attrs["sigma_y"] - sy) < 3 * g.attrs["sigma_y_std"]
-        import json
         check = json.loads(g.attrs["cross_check"])
         assert check["passed"] and check["rms"] == pytest.approx(0.01, rel=0.3)
         assert json.loads(f.attrs["plan"])["steps"][0]["name"] == "calibrate film"
@@ -246,3 +247,32 @@ def test_scene_calibrates_a_layer_from_the_particle_model(tmp_path):
         assert "lammps_version" in f.attrs["particles_0"]
     again = pl.run_scene(sc, tmp_path / "store", tmp_path / "r2.h5")
     assert set(again.units.values()) == {"reused"}
+
+
+def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
+    """Berkovich curves (an HDF5 file of 5 curve groups) from Dao's forward functions with
+    sigma_y = 0.5 GPa sqrt(1 + 0.3 um / h): the layer is calibrated by the reverse analysis,
+    its Nix-Gao length goes into the scene, and the impact model's profile carries it
+    (sigma_y of that layer at approach h equals sigma_y0 sqrt(1 + h*/h))."""
+    from filmscale.continuum.io import CURVE_FORMAT, write_curve_group
+    from tests.workflows.test_calibration import sized_curves
+    with h5py.File(tmp_path / "berkovich.h5", "w") as f:
+        for i, c in enumerate(sized_curves()):
+            g = f.create_group(f"indent_{i}")
+            g.attrs["format"] = CURVE_FORMAT
+            write_curve_group(g, c)
+    film = '[target.layers.calibrate]\ncurves = ["berkovich.h5"]'
+    text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=film,
+                       want='["maxima"]').replace("nu = 0.3\n", "nu = 0.33\n")
+    sc = pl.parse_pipeline(text, "sized.toml", tmp_path)
+    result = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
+    with h5py.File(result.path, "r") as f:
+        cal = json.loads(f["calibration/0"].attrs["calibration"])
+    assert cal["h_star"]["value"] == pytest.approx(0.3e-6, rel=0.05)
+    assert cal["sigma_y"]["value"] == pytest.approx(0.5e9, rel=0.02)
+    scene = sc.completed({0: pl.ElasticPlastic(70e9, 0.33, cal["sigma_y"]["value"])},
+                         {0: cal["h_star"]["value"]})
+    prof = scene.model().target
+    sy = prof.strengths(np.array([1e-7]))[0, 0]
+    assert sy == pytest.approx(cal["sigma_y"]["value"] * np.sqrt(1 + cal["h_star"]["value"]
+                                                                 / 1e-7), rel=1e-12)

@@ -104,3 +104,20 @@ breakpoints = [20e-9]
         assert scene.profile.hardness_factor == scene.law.hardness_factor
         assert isinstance(scene.model().target, TableProfile)
     np.testing.assert_allclose(a.profile.hardness, b.profile.hardness, rtol=1e-12)
+
+
+def test_h_star_gives_the_impact_model_a_size_effect():
+    """Limit case: a substrate with a huge Nix-Gao length (1 mm: sigma_y above 400 GPa at
+    every approach reached) hits like the same substrate that never yields (sigma_y = 10
+    TPa), at a speed that yields it without h*; a bad h_star names its key."""
+    sized = parse_scene(MINIMAL.replace('sigma_y = 2.4e9', 'sigma_y = 2.4e9\nh_star = 1e-3'))
+    plain = parse_scene(MINIMAL)
+    hard = parse_scene(MINIMAL.replace('sigma_y = 2.4e9', 'sigma_y = 1e13'))
+    V, R, m = 5.0, 1e-6, 1e-12
+    assert bool(plain.substrate_model().maxima(V, R, m).yielded)
+    got = sized.substrate_model().maxima(V, R, m)
+    assert not bool(got.yielded)
+    assert float(got.delta_max) == pytest.approx(
+        float(hard.substrate_model().maxima(V, R, m).delta_max), rel=1e-9)
+    with pytest.raises(InputError, match=r"target.substrate.h_star = -1"):
+        parse_scene(MINIMAL.replace('sigma_y = 2.4e9', 'sigma_y = 2.4e9\nh_star = -1e-9'))

@@ -21,6 +21,7 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/filmscale run examples/demo_scene.toml --store demo_output/runs \
 	  --out demo_output/demo.h5 --report
+	$(BIN)/filmscale report demo_output/demo.h5 --figure demo_output/demo.png
 
 test: $(STAMP)
 	$(BIN)/python -m pytest

@@ -29,8 +29,10 @@ def cmd_run(args) -> int:
 
 
 def cmd_report(args) -> int:
-    from .report import write_report
+    from .report import write_figure, write_report
     print(write_report(args.result, args.out))
+    if args.figure:
+        print(write_figure(args.result, args.figure))
     return 0
 
 
@@ -53,4 +55,6 @@ def add_commands(sub) -> None:
     p = sub.add_parser("report", help="self-contained HTML report of a scene result")
     p.add_argument("result", help="RESULT.h5 from filmscale run")
     p.add_argument("--out", metavar="REPORT.html", help="default: RESULT with .html")
+    p.add_argument("--figure", metavar="FIGURE.png",
+                   help="also a one-line PNG summary: calibration, profile, map")
     p.set_defaults(func=cmd_report)

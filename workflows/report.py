@@ -73,6 +73,56 @@ def _map_figure(group) -> str:
     return _png(fig)
 
 
+def write_figure(result, out) -> Path:
+    """One PNG summary of a scene result: the first calibrated layer's curves with the
+    calibrated forward model, the depth profile, and the map's maximum approach and
+    restitution (or the scene's point when there is no map)."""
+    result, out = Path(result), Path(out)
+    with h5py.File(result, "r") as f:
+        if f.attrs.get("format") != RESULT_FORMAT:
+            raise InputError(f"{result} is not a scene result (format "
+                             f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
+        has_map = "map" in f["impact"]
+        fig, axes = plt.subplots(1, 4 if has_map else 2, figsize=(17 if has_map else 9, 3.8),
+                                 constrained_layout=True)
+        ax = axes[0]
+        for key in list(f["calibration"])[:1]:
+            g = f["calibration"][key]
+            check = CrossCheck(**json.loads(g.attrs["cross_check"]))
+            for i, name in enumerate(k for k in g if k.startswith("curve_")):
+                h, P, F = (g[name][k][()] for k in ("h", "P", "P_model"))
+                ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=f"C{i}")
+                ax.plot(h * 1e9, F * 1e9, "-", color=f"C{i}")
+            ax.set_title(f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} GPa, sigma_y "
+                         f"{g.attrs['sigma_y'] / 1e9:.2g} GPa\n(points: curve; line: "
+                         f"calibrated law, {check.rms:.0%} rms)", fontsize=9)
+            ax.set_xlabel("depth h (nm)")
+            ax.set_ylabel("load P (nN)")
+        ax = axes[1]
+        prof = f["profile"]
+        d = prof["delta"][()] * 1e9
+        ax.semilogx(d, prof["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
+        ax.semilogx(d, prof["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
+        ax.set_xlabel("approach delta (nm)")
+        ax.set_title("depth profile (Gao weighting)", fontsize=9)
+        ax.legend(fontsize=8)
+        if has_map:
+            m = f["impact/map"]
+            V, R = m["velocity"][()], m["radius"][()] * 1e6
+            for ax, key, label, scale in ((axes[2], "delta_max", "maximum approach (nm)", 1e9),
+                                          (axes[3], "restitution", "restitution e_y", 1.0)):
+                c = ax.contourf(V, R, m[key][()] * scale, levels=20, cmap="viridis")
+                fig.colorbar(c, ax=ax, label=label)
+                ax.set_xscale("log")
+                ax.set_yscale("log")
+                ax.set_xlabel("impact velocity V (m/s)")
+                ax.set_ylabel("sphere radius R (um)")
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, format="png", dpi=90)
+    plt.close(fig)
+    return out
+
+
 def _table(rows, header) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
     body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"

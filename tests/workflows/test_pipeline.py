@@ -10,7 +10,7 @@ import pytest
 from filmscale.continuum import ImpactModel, contact_law
 from filmscale.continuum.errors import InputError
 from filmscale.workflows import pipeline as pl
-from filmscale.workflows.report import write_report
+from filmscale.workflows.report import write_figure, write_report
 
 BASE = """
 [impactor]
@@ -157,6 +157,8 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
                                                                rel=1e-9)
     report = write_report(out)
     assert "<h2>Plan</h2>" in report.read_text() and "data:image/png" in report.read_text()
+    figure = write_figure(out, tmp_path / "summary.png")
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, monkeypatch):

@@ -430,48 +430,48 @@ def _progress_bar(total: int):
     return bar, lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
 
 
-def md_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
-    """Run (or resume, or reuse) the MD indentation of a calibration source."""
+def _run_md(spec, path: Path, ranks: int):
     from filmscale.md.engine import EngineOptions
+    from filmscale.md.record import run_provenance
     from filmscale.md.run import run_indentation
-    spec = src.spec(base)
-    path = unit_dir(store, "md-indent", {"spec": spec.to_dict(), "np": src.np})
-    if _done(path) is not None:
-        return path, True
-    _say(f"MD indentation {spec.name} for {src.name} in {path}")
     bar, progress = _progress_bar(spec.protocol.schedule().s_end)
     try:
-        run = run_indentation(spec, path, EngineOptions(np=src.np), progress=progress)
+        run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)
     finally:
         bar.close()
-    np.savez(path / "curve.npz", h=run.curve.h, P=run.curve.P, segment=run.curve.segment)
-    from filmscale.md.record import run_provenance
-    _finish(path, {"indenter": run.curve.indenter, "wall_time": run.wall_time,
-                   **run_provenance(run)})
-    return path, False
+    return run.curve, {"wall_time": run.wall_time, **run_provenance(run)}
 
 
-def particle_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
-    """Run (or reuse) the particle-model indentation of a calibration source."""
+def _run_particles(spec, path: Path, ranks: int):
     from filmscale.md.engine import EngineOptions, lammps_info
     from filmscale.md.particle_run import run_particles
     from filmscale.md.particles import estimated_steps
-    spec = src.spec(base)
-    path = unit_dir(store, "particle-indent", {"spec": spec.to_dict(), "np": src.np})
-    if _done(path) is not None:
-        return path, True
-    _say(f"particle-model indentation {spec.name} ({spec.method}) for {src.name} in {path}")
     bar, progress = _progress_bar(estimated_steps(spec))
     try:
-        run = run_particles(spec, path, EngineOptions(np=src.np, omp_threads=1),
+        run = run_particles(spec, path, EngineOptions(np=ranks, omp_threads=1),
                             progress=progress)
     finally:
         bar.close()
-    curve = run.curve()
+    return run.curve(), {"wall_time": run.wall_time, "steps": run.steps,
+                         "particles": spec.grid.n_particles, "method": spec.method,
+                         **lammps_info()}
+
+
+#: run-unit kind and runner of each run source
+_RUNNERS = {"md": ("md-indent", _run_md), "particles": ("particle-indent", _run_particles)}
+
+
+def run_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
+    """Run (or resume, or reuse) the MD or particle-model indentation of a source."""
+    kind, runner = _RUNNERS[src.kind]
+    spec = src.spec(base)
+    path = unit_dir(store, kind, {"spec": spec.to_dict(), "np": src.np})
+    if _done(path) is not None:
+        return path, True
+    _say(f"{kind} {spec.name} for {src.name} in {path}")
+    curve, record = runner(spec, path, src.np)
     np.savez(path / "curve.npz", h=curve.h, P=curve.P, segment=curve.segment)
-    _finish(path, {"indenter": curve.indenter, "wall_time": run.wall_time,
-                   "steps": run.steps, "particles": spec.grid.n_particles,
-                   "method": spec.method, **lammps_info()})
+    _finish(path, {"indenter": curve.indenter, **record})
     return path, False
 
 
@@ -480,11 +480,11 @@ def source_unit(src: CalibrationSource, base: Path, store: Path
     """The source's run unit (None for curve files), whether it was reused, its curves."""
     if src.kind == "curves":
         return None, True, src.curves(base)
-    path, reused = (md_unit if src.kind == "md" else particle_unit)(src, base, store)
-    return path, reused, [md_curve(path)]
+    path, reused = run_unit(src, base, store)
+    return path, reused, [unit_curve(path)]
 
 
-def md_curve(path: Path):
+def unit_curve(path: Path):
     """The curve of a finished MD or particle unit."""
     from filmscale.continuum.curves import LoadDisplacementCurve
     d = np.load(path / "curve.npz")

@@ -308,10 +308,9 @@ def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
                 "before it, sigma_y from the loading after it"
                 for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
                                       if pop is not None)]
-    sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor if \
-        post else 0.0
     sigma_param = None
     if N2 >= 2:
+        sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor
         def residuals(ln_sy, ln_E=math.log(E_star)):
             return _residuals(post, law, nu, math.exp(ln_E), math.exp(ln_sy[0]))
         fit = least_squares(residuals, [math.log(sy0)], diff_step=1e-6, xtol=1e-12,

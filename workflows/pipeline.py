@@ -50,7 +50,8 @@ from filmscale.continuum.io import atomic_h5, atomic_path, read_text
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.continuum.profiles import StackProfile
 
-from .calibration import Calibration, Parameter, calibrate_sphere, with_size_effect
+from .calibration import (Calibration, CrossCheck, Parameter, calibrate_sphere,
+                          with_size_effect)
 from .provenance import provenance
 from .scene import Scene, read_toml, scene_from_data
 
@@ -523,28 +524,23 @@ def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
 
 def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
                      law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
-    """Calibrate (or reuse the calibration of) a source's curves; record the cross-scale
-    check: the calibrated forward model against the curves."""
+    """Calibrate (or reuse the calibration of) a source's curves."""
     origin = run_path.name if run_path is not None else \
         {f: _file_digest(Path(base) / f) for f in src.source}
     path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
-                                          "layer": src.name, "tip": src.tip,
-                                          "tolerance": src.tolerance})
+                                          "layer": src.name, "tip": src.tip})
     record = _done(path)
     reused = record is not None
     if not reused:
         path.mkdir(parents=True, exist_ok=True)
         cal = calibrate_curves(src, curves, nu, law)
-        check = cal.cross_check(src.tolerance)
         fitted = {}
         for i, (h, P, F) in enumerate(cal.fitted_curves):
             fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
         with atomic_path(path / "fit.npz") as tmp:
             with open(tmp, "wb") as f:
                 np.savez(f, **fitted)
-        record = _finish(path, {**cal.to_dict(), "cross_check": check.to_dict()})
-    record = dict(record)
-    record.pop("cross_check")
+        record = _finish(path, cal.to_dict())
     with np.load(path / "fit.npz") as d:
         fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
                        for i in range(len(d.files) // 3))
@@ -576,6 +572,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     store.mkdir(parents=True, exist_ok=True)
     units = {}
     calibrations: dict[int, Calibration] = {}
+    checks: dict[int, CrossCheck] = {}
     run_records: dict[str, dict] = {}
     for src in pipeline.calibrations:
         run_path, reused, curves = source_unit(src, pipeline.base, store)
@@ -588,7 +585,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
                                                  law, pipeline.base, store)
         units[cal_path.name] = "reused" if reused else "ran"
         calibrations[src.layer] = cal
-        _say(cal.summary() + "\n  " + cal.cross_check(src.tolerance).text())
+        checks[src.layer] = cal.cross_check(src.tolerance)
+        _say(cal.summary() + "\n  " + checks[src.layer].text())
     materials = {k: c.material() for k, c in calibrations.items()}
     h_star = {k: c.h_star.value for k, c in calibrations.items() if c.h_star is not None}
     plan = plan_scene(pipeline, materials, h_star)
@@ -605,7 +603,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
         units[impact_path.name] = "ran"
     else:
         units[impact_path.name] = "reused"
-    path = write_scene_result(out, pipeline, scene, plan, calibrations, impact_path,
+    path = write_scene_result(out, pipeline, scene, plan, calibrations, checks, impact_path,
                               run_records)
     return SceneResult(path, plan, units)
 
@@ -655,7 +653,8 @@ def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndar
 
 
 def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
-                       calibrations: dict[int, Calibration], impact_path: Path,
+                       calibrations: dict[int, Calibration], checks: dict[int, CrossCheck],
+                       impact_path: Path,
                        run_records: dict[str, dict]) -> Path:
     """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
     profile, impact results; SI datasets with unit attributes; provenance attributes, with
@@ -663,7 +662,6 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
     ``particles_<layer>`` (LAMMPS version, method, particles, steps)."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tolerances = {s.layer: s.tolerance for s in pipeline.calibrations}
     extra = {k: json.dumps(r) for k, r in run_records.items()}
     with atomic_h5(out) as f:
         f.attrs["format"] = RESULT_FORMAT
@@ -683,8 +681,7 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                 c.attrs[name] = p.value
                 c.attrs[f"{name}_std"] = p.std
                 c.attrs[f"{name}_identified"] = p.identified
-            check = cal.cross_check(tolerances[k])
-            c.attrs["cross_check"] = json.dumps(check.to_dict())
+            c.attrs["cross_check"] = json.dumps(checks[k].to_dict())
             for i, (h, P, F) in enumerate(cal.fitted_curves):
                 curve = c.create_group(f"curve_{i}")
                 for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):

@@ -27,9 +27,17 @@ def _png(fig) -> str:
     return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
 
 
-def _calibration_figure(group, model: str) -> str:
+def _result_file(result: Path):
+    f = h5py.File(result, "r")
+    if f.attrs.get("format") != RESULT_FORMAT:
+        f.close()
+        raise InputError(f"{result} is not a scene result (format "
+                         f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
+    return f
+
+
+def _draw_calibration(ax, group, title: str):
     """Each calibration curve (points) and the calibrated forward model (line)."""
-    fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
     curves = sorted(k for k in group if k.startswith("curve_"))
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
@@ -37,86 +45,69 @@ def _calibration_figure(group, model: str) -> str:
         ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=color,
                 label="calibration curve" if i == 0 else None)
         ax.plot(h * 1e9, F * 1e9, "-", color=color,
-                label=f"forward: {model[:40]}" if i == 0 else None)
+                label="calibrated forward model" if i == 0 else None)
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel("load P (nN)")
-    ax.set_title(str(group.attrs["layer"]))
-    ax.legend()
-    return _png(fig)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
 
 
-def _profile_figure(group, radius) -> str:
-    fig, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
+def _draw_profile(ax, group, radius):
     d = group["delta"][()] * 1e9
     ax.semilogx(d, group["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
     ax.semilogx(d, group["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
     ax.set_xlabel("approach delta (nm)")
-    ax.set_title(f"effective properties, sphere R = {radius * 1e6:.3g} um (Gao weighting)")
-    ax.legend()
+    ax.set_title(f"effective properties, sphere R = {radius * 1e6:.3g} um (Gao weighting)",
+                 fontsize=9)
+    ax.legend(fontsize=8)
+
+
+MAP_PANELS = (("delta_max", "maximum approach (nm)", 1e9),
+              ("restitution", "restitution e_y", 1.0),
+              ("residual_depth", "residual depth (nm)", 1e9))
+
+
+def _draw_map(fig, ax, group, key, label, scale):
+    c = ax.contourf(group["velocity"][()], group["radius"][()] * 1e6, group[key][()] * scale,
+                    levels=20, cmap="viridis")
+    fig.colorbar(c, ax=ax, label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("impact velocity V (m/s)")
+    ax.set_ylabel("sphere radius R (um)")
+
+
+def _panel(draw, *args, size=(5, 3.6)) -> str:
+    fig, ax = plt.subplots(figsize=size, constrained_layout=True)
+    draw(ax, *args)
     return _png(fig)
 
 
 def _map_figure(group) -> str:
-    fields = [("delta_max", "maximum approach (nm)", 1e9),
-              ("restitution", "restitution e_y", 1.0),
-              ("residual_depth", "residual depth (nm)", 1e9)]
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
-    V, R = group["velocity"][()], group["radius"][()]
-    for ax, (key, label, scale) in zip(axes, fields):
-        z = group[key][()] * scale
-        c = ax.contourf(V, R * 1e6, z, levels=20, cmap="viridis")
-        fig.colorbar(c, ax=ax, label=label)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("impact velocity V (m/s)")
-        ax.set_ylabel("sphere radius R (um)")
+    for ax, panel in zip(axes, MAP_PANELS):
+        _draw_map(fig, ax, group, *panel)
     return _png(fig)
 
 
 def write_figure(result, out) -> Path:
     """One PNG summary of a scene result: the first calibrated layer's curves with the
     calibrated forward model, the depth profile, and the map's maximum approach and
-    restitution (or the scene's point when there is no map)."""
+    restitution (when there is a map)."""
     result, out = Path(result), Path(out)
-    with h5py.File(result, "r") as f:
-        if f.attrs.get("format") != RESULT_FORMAT:
-            raise InputError(f"{result} is not a scene result (format "
-                             f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
+    with _result_file(result) as f:
         has_map = "map" in f["impact"]
         fig, axes = plt.subplots(1, 4 if has_map else 2, figsize=(17 if has_map else 9, 3.8),
                                  constrained_layout=True)
-        ax = axes[0]
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
             check = CrossCheck(**json.loads(g.attrs["cross_check"]))
-            for i, name in enumerate(k for k in g if k.startswith("curve_")):
-                h, P, F = (g[name][k][()] for k in ("h", "P", "P_model"))
-                ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=f"C{i}")
-                ax.plot(h * 1e9, F * 1e9, "-", color=f"C{i}")
-            ax.set_title(f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} GPa, sigma_y "
-                         f"{g.attrs['sigma_y'] / 1e9:.2g} GPa\n(points: curve; line: "
-                         f"calibrated law, {check.rms:.0%} rms)", fontsize=9)
-            ax.set_xlabel("depth h (nm)")
-            ax.set_ylabel("load P (nN)")
-        ax = axes[1]
-        prof = f["profile"]
-        d = prof["delta"][()] * 1e9
-        ax.semilogx(d, prof["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
-        ax.semilogx(d, prof["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
-        ax.set_xlabel("approach delta (nm)")
-        ax.set_title("depth profile (Gao weighting)", fontsize=9)
-        ax.legend(fontsize=8)
+            _draw_calibration(axes[0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} GPa, "
+                              f"sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({check.rms:.0%} rms)")
+        _draw_profile(axes[1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
-            m = f["impact/map"]
-            V, R = m["velocity"][()], m["radius"][()] * 1e6
-            for ax, key, label, scale in ((axes[2], "delta_max", "maximum approach (nm)", 1e9),
-                                          (axes[3], "restitution", "restitution e_y", 1.0)):
-                c = ax.contourf(V, R, m[key][()] * scale, levels=20, cmap="viridis")
-                fig.colorbar(c, ax=ax, label=label)
-                ax.set_xscale("log")
-                ax.set_yscale("log")
-                ax.set_xlabel("impact velocity V (m/s)")
-                ax.set_ylabel("sphere radius R (um)")
+            for ax, panel in zip(axes[2:], MAP_PANELS[:2]):
+                _draw_map(fig, ax, f["impact/map"], *panel)
     with atomic_path(out) as tmp:
         fig.savefig(tmp, format="png", dpi=90)
     plt.close(fig)
@@ -134,10 +125,7 @@ def write_report(result, out=None) -> Path:
     """Write the HTML report of a scene result (default: RESULT with suffix .html)."""
     result = Path(result)
     out = Path(out) if out is not None else result.with_suffix(".html")
-    with h5py.File(result, "r") as f:
-        if f.attrs.get("format") != RESULT_FORMAT:
-            raise InputError(f"{result} is not a scene result (format "
-                             f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
+    with _result_file(result) as f:
         plan = json.loads(f.attrs["plan"])
         parts = [f"<h1>filmscale scene report</h1><p>scene: {html.escape(f.attrs['scene'])}"
                  f"; filmscale {html.escape(f.attrs['filmscale_version'])} "
@@ -164,10 +152,10 @@ def write_report(result, out=None) -> Path:
                       f"{cal['rms']:.2%} of the largest load over {cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
                       f"<p><b>{html.escape(check.text())}</b></p>",
-                      _calibration_figure(g, cal["model"])]
+                      _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}")]
             parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
         radius = float(f["impact/point/radius"][()])
-        parts += ["<h2>Depth profile</h2>", _profile_figure(f["profile"], radius),
+        parts += ["<h2>Depth profile</h2>", _panel(_draw_profile, f["profile"], radius),
                   "<h2>Impact</h2>"]
         point = f["impact/point"]
         parts.append(_table([(k, f"{float(point[k][()]):.5g}") for k in sorted(point)],

@@ -64,7 +64,7 @@ class Calibration:
     """E, sigma_y and n of one layer, the fit's quality and where they came from."""
 
     layer: str
-    route: str                      #: "sphere" or "sharp"
+    route: str                      #: "sphere", "sharp" or "joint" (several sources)
     E: Parameter
     sigma_y: Parameter
     n: Parameter
@@ -78,6 +78,10 @@ class Calibration:
     #: Nix-Gao length of sigma_y (m) when curves at several depths give one; sigma_y is
     #: then the macroscopic (deep) value
     h_star: Parameter | None = None
+    #: the source of each fitted curve (joint calibrations; empty: one source)
+    curve_sources: tuple[str, ...] = ()
+    #: each source's own calibration, as dicts with its ``source`` (joint calibrations)
+    components: tuple = ()
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:
@@ -92,17 +96,21 @@ class Calibration:
         d.pop("fitted_curves")
         return d
 
-    def cross_check(self, tolerance: float) -> CrossCheck:
+    def cross_check(self, tolerance: float, source: str = "") -> CrossCheck:
         """The calibrated forward model (the contact law, or Dao's forward C for sharp tips)
-        against every loading point of the curves it was calibrated on: rms misfit over
-        the largest load of each curve, passed when at most ``tolerance``."""
+        against every loading point of the curves it was calibrated on (with ``source``:
+        that source's curves of a joint calibration): rms misfit over the largest load of
+        each curve, passed when at most ``tolerance``."""
         tolerance = check_real("tolerance", tolerance, low=0.0, low_open=True, high=1.0)
-        if not self.fitted_curves:
-            raise InputError(f"calibration of {self.layer} holds no fitted curves")
-        resid = np.concatenate([(F - P) / P.max() for h, P, F in self.fitted_curves])
+        curves = [c for i, c in enumerate(self.fitted_curves)
+                  if not source or not self.curve_sources or self.curve_sources[i] == source]
+        if not curves:
+            raise InputError(f"calibration of {self.layer} holds no fitted curves"
+                             + (f" of {source}" if source else ""))
+        resid = np.concatenate([(F - P) / P.max() for h, P, F in curves])
         rms = float(np.sqrt(np.mean(resid**2)))
         return CrossCheck(self.model, rms, float(np.max(np.abs(resid))), tolerance,
-                          rms <= tolerance, int(resid.size))
+                          rms <= tolerance, int(resid.size), source)
 
     def summary(self) -> str:
         lines = [f"Calibration of {self.layer} ({self.route}: {self.model}; "
@@ -116,6 +124,10 @@ class Calibration:
                          f"{self.points} points")
         if self.h_star is not None:
             lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
+        for c in self.components:
+            lines.append(f"  from {c['source']} ({c['route']}): E {c['E']['value']:.4g} Pa "
+                         f"alone, {c['E_joint']['value']:.4g} Pa in the joint fit; sigma_y "
+                         f"{c['sigma_y']['value']:.4g} Pa alone")
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
@@ -130,13 +142,15 @@ class CrossCheck:
     tolerance: float
     passed: bool
     points: int
+    source: str = ""      #: the source whose curves were checked ("": all)
 
     def to_dict(self) -> dict:
         return asdict(self)
 
     def text(self) -> str:
         verdict = "passed" if self.passed else "FAILED"
-        return (f"cross-scale check {verdict}: {self.model} with the calibrated parameters "
+        of = f" of {self.source}" if self.source else ""
+        return (f"cross-scale check{of} {verdict}: {self.model} with the calibrated parameters "
                 f"reproduces the curves to {self.rms:.1%} rms (worst point {self.worst:.1%}) "
                 f"of the largest load; tolerance {self.tolerance:.0%}")
 
@@ -426,35 +440,111 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
         fitted_curves=tuple(fitted))
 
 
-def with_size_effect(cal: Calibration, curves, tip="berkovich", *, E_i: float = E_I_DAO,
-                     nu_i: float = NU_I_DAO) -> Calibration:
-    """``cal`` with the Nix-Gao depth dependence of sigma_y from sharp curves at three or
-    more maximum depths: each curve is reversed on its own (Dao), and
-    sigma_y^2 = sigma_y0^2 (1 + h*/h_m) is fitted as a line in 1/h_m (`nix_gao_fit`; the
-    Nix-Gao form written for sigma_y rather than hardness, because the depth profile scales
-    sigma_y: hardness grows more slowly than sigma_y and would give a smaller h*).
-    sigma_y becomes the macroscopic sigma_y0 with the fit's standard error. Unchanged (with a
-    warning) when sigma_y does not fall with depth."""
-    inputs = np.array([sharp_inputs(c, tip) for c in curves])
-    C, _, S, W, h_m = inputs.T
-    sigma = np.array([dao_reverse(C[i], S[i], W[i], h_m[i], tip=tip, nu=cal.nu, E_i=E_i,
-                                  nu_i=nu_i).sigma_y for i in range(len(curves))])
+@dataclass(frozen=True)
+class StrengthPoint:
+    """sigma_y from one sharp indent and the depth it belongs to (its maximum depth)."""
+
+    source: str
+    sigma_y: float         #: Pa
+    rel_std: float         #: relative standard deviation of sigma_y
+    depth: float           #: m
+
+
+def sharp_strength_points(curves, tip="berkovich", *, nu: float, E_i: float = E_I_DAO,
+                          nu_i: float = NU_I_DAO, source: str = "", dPdh_rsd: float = 0.05,
+                          WpWt_std: float = 0.01, samples: int = 400) -> list[StrengthPoint]:
+    """sigma_y of each sharp curve at its maximum depth (Dao reverse analysis), with the
+    Monte Carlo standard deviation of `calibrate_sharp`'s one-curve route."""
+    points = []
+    for i, c in enumerate(curves):
+        C, C_std, S, W, h_m = sharp_inputs(c, tip)
+        r = dao_reverse(C, S, W, h_m, tip=tip, nu=nu, E_i=E_i, nu_i=nu_i, C_std=C_std,
+                        dPdh_std=dPdh_rsd * S, WpWt_std=WpWt_std, samples=samples)
+        points.append(StrengthPoint(source or str(c.meta.get("source", f"curve {i}")),
+                                    float(r.sigma_y), float(r.sigma_y_std / r.sigma_y),
+                                    float(h_m)))
+    return points
+
+
+#: floor of a strength point's relative std in the Nix-Gao weights (a noise-free point
+#: would otherwise take all the weight)
+MIN_REL_STD = 1e-3
+
+
+def nix_gao_strengths(points) -> NixGaoFit:
+    """sigma_y0 and h* of sigma_y(d) = sigma_y0 sqrt(1 + h*/d) (Nix & Gao 1998, written for
+    sigma_y) from strength points.
+
+    Weighted least squares in ln sigma_y with weights 1/rel_std; h* > -0.9 x the smallest
+    depth. Standard errors from s^2 (J^T J)^-1 with s^2 the weighted residual variance over
+    N - 2 degrees of freedom (the stated stds weight the points; their scatter sets the
+    scale, as in `nix_gao_fit`). ``H0`` of the result is sigma_y0, ``r2`` is that of
+    ln sigma_y."""
+    points = list(points)
+    if len(points) < 3:
+        raise InputError(f"a Nix-Gao fit needs at least 3 strengths, got {len(points)}")
+    d = np.array([p.depth for p in points])
+    s = np.array([p.sigma_y for p in points])
+    w = 1.0 / np.maximum([p.rel_std for p in points], MIN_REL_STD)
+    if not np.all(np.isfinite(s) & (s > 0) & np.isfinite(w)):
+        raise InputError("Nix-Gao: every strength must be finite and > 0, with a finite std")
+    if np.ptp(np.log(d)) < 0.01:
+        raise InputError("Nix-Gao needs strengths at different depths")
+    d_ref = float(np.exp(np.mean(np.log(d))))
     try:
-        fit = nix_gao_fit(h_m, sigma)
+        start = nix_gao_fit(d, s)
+        x0 = [math.log(start.H0), max(start.h_star / d_ref, 0.0)]
+    except InputError:
+        x0 = [math.log(float(np.median(s))), 0.0]
+
+    def residuals(x):
+        return w * np.log(math.exp(x[0]) * np.sqrt(1.0 + x[1] * d_ref / d) / s)
+    low = -0.9 * float(d.min()) / d_ref
+    x0[1] = max(x0[1], 0.5 * low)
+    fit = least_squares(residuals, x0, bounds=([-np.inf, low], [np.inf, np.inf]),
+                        xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    dof = max(len(points) - 2, 1)
+    cov = float(fit.fun @ fit.fun) / dof * np.linalg.pinv(fit.jac.T @ fit.jac)
+    sigma_y0 = math.exp(fit.x[0])
+    ln_s = np.log(s)
+    total = float(np.sum(w**2 * (ln_s - np.average(ln_s, weights=w**2))**2))
+    r2 = 1.0 - float(fit.fun @ fit.fun) / total if total > 0 else 1.0
+    return NixGaoFit(sigma_y0, float(fit.x[1] * d_ref), sigma_y0 * math.sqrt(cov[0, 0]),
+                     d_ref * math.sqrt(cov[1, 1]), r2, len(points))
+
+
+def apply_size_effect(cal: Calibration, points) -> Calibration:
+    """``cal`` with sigma_y0 and h* of `nix_gao_strengths` over ``points``; unchanged (with a
+    warning) when they give none: fewer than 3 strengths, one depth, or h* <= 0."""
+    try:
+        fit = nix_gao_strengths(points)
     except InputError as err:
         return replace(cal, warnings=cal.warnings + (f"no size effect: {err}",))
     if not fit.h_star > 0:
         return replace(cal, warnings=cal.warnings + (
-            f"no size effect: the Nix-Gao fit of sigma_y over {fit.n} depths gives h* = "
+            f"no size effect: the Nix-Gao fit of sigma_y over {fit.n} strengths gives h* = "
             f"{fit.h_star:.3g} m",))
     ok = fit.h_star_std < IDENTIFIABLE_RSD * fit.h_star
+    depths = [p.depth for p in points]
     return replace(
         cal, sigma_y=replace(cal.sigma_y, value=fit.H0, std=fit.H0_std),
         h_star=Parameter(fit.h_star, fit.h_star_std, "m", bool(ok),
                          "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}"),
         warnings=cal.warnings + (
-            f"sigma_y is the macroscopic sigma_y0 of a Nix-Gao fit over {fit.n} depths "
-            f"({h_m.min():.3g}-{h_m.max():.3g} m, R^2 {fit.r2:.3f})",))
+            f"sigma_y is the macroscopic sigma_y0 of a Nix-Gao fit over {fit.n} strengths "
+            f"({min(depths):.3g}-{max(depths):.3g} m, R^2 {fit.r2:.3f} in ln sigma_y)",))
+
+
+def with_size_effect(cal: Calibration, curves, tip="berkovich", *, E_i: float = E_I_DAO,
+                     nu_i: float = NU_I_DAO) -> Calibration:
+    """``cal`` with the Nix-Gao depth dependence of sigma_y from sharp curves at three or
+    more maximum depths: each curve is reversed on its own (Dao) and
+    sigma_y(h_m) = sigma_y0 sqrt(1 + h*/h_m) is fitted (`nix_gao_strengths`; the Nix-Gao
+    form written for sigma_y rather than hardness, because the depth profile scales sigma_y:
+    hardness grows more slowly than sigma_y and would give a smaller h*). sigma_y becomes
+    the macroscopic sigma_y0 with the fit's standard error."""
+    return apply_size_effect(cal, sharp_strength_points(curves, tip, nu=cal.nu, E_i=E_i,
+                                                        nu_i=nu_i))
 
 
 def size_effect(curves, tip="berkovich") -> NixGaoFit:

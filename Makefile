@@ -34,6 +34,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/indentation_speed.py
 	$(BIN)/python benchmarks/md_overhead.py
 	$(BIN)/python benchmarks/particles_convergence.py
+	$(BIN)/python benchmarks/joint_calibration.py
 
 clean:
 	rm -rf demo_output .pytest_cache

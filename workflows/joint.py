@@ -45,7 +45,7 @@ from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_forward
 
 from .calibration import (IDENTIFIABLE_RSD, MIN_REL_STD, Calibration, Parameter,
                           StrengthPoint, _loading_points, _sphere_radius, nix_gao_strengths,
-                          sharp_inputs, sharp_strength_points)
+                          sharp_strength_points)
 
 #: floor of a sphere source's noise in the joint weights (as a fraction of its largest load)
 MIN_NOISE = 1e-4

@@ -7,7 +7,10 @@ A pipeline scene is an impact scene (`workflows.scene`, docs/scenes.md) plus:
   preset or spec file) or ``curves`` (curve files, ``tip`` where they name none), with ``np``
   MPI ranks and the cross-scale check's ``tolerance``. The layer still states ``nu`` (a
   sphere's loading does not separate E and nu). Sharp curves at three or more depths also
-  give the layer's Nix-Gao length h* (the scene's ``h_star``).
+  give the layer's Nix-Gao length h* (the scene's ``h_star``). Several sources of one layer
+  (``[[target.layers.calibrate]]`` tables: an MD run and measured curves, say) are
+  calibrated one by one and then jointly (`workflows.joint`): one Nix-Gao law of sigma_y
+  over all their depths.
 - ``[outputs]``: ``want`` = any of maxima, history, map, restitution, residual_damage,
   tangential; ``tolerance`` (relative) for the planner's choices.
 - ``impactor.friction`` and ``impactor.angle`` (degrees from the normal).
@@ -52,12 +55,14 @@ from filmscale.continuum.profiles import StackProfile
 
 from .calibration import (Calibration, CrossCheck, Parameter, calibrate_sphere,
                           with_size_effect)
+from .joint import CalibrationPart, combine, sharp_part, sphere_part
 from .provenance import provenance
 from .scene import Scene, read_toml, scene_from_data
 
 OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
 FRICTION_LIMIT = 0.3
-RESULT_FORMAT = "filmscale.scene_result/1"
+#: /2: ``cross_check`` of a calibrated layer is a list (one check per source)
+RESULT_FORMAT = "filmscale.scene_result/2"
 #: MD throughput measured for the quick preset (14 336 atoms x 5 500 steps in 184 s on
 #: 2 ranks, README), atom-steps per second per rank: the cost estimate of an MD unit
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
@@ -98,6 +103,11 @@ class CalibrationSource:
     np: int = 1
     tip: str = ""                #: indenter of curve files that do not name one
     tolerance: float = CROSS_CHECK_TOLERANCE
+
+    @property
+    def label(self) -> str:
+        """The source as results name it: ``md:quick``, ``curves:a.csv,b.h5``."""
+        return f"{self.kind}:{','.join(self.source)}"
 
     def spec(self, base: Path):
         """The run's spec (None for curve files)."""
@@ -158,6 +168,35 @@ def _filled(data: dict, materials: dict[int, ElasticPlastic],
     return data
 
 
+def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
+    """One ``calibrate`` table, checked."""
+    allowed = set(SOURCE_KINDS) | {"np", "tip", "tolerance"}
+    kinds = [key for key in SOURCE_KINDS if isinstance(cal, dict) and key in cal]
+    if not isinstance(cal, dict) or set(cal) - allowed or len(kinds) != 1:
+        raise InputError(f"{where} takes exactly one of md (an MD preset or spec file), "
+                         "particles (a particle-model preset or spec file) or curves (a "
+                         f"list of curve files), and np, tip, tolerance; got {cal!r} (one "
+                         "layer takes several sources as [[target.layers.calibrate]] tables)")
+    kind = kinds[0]
+    np_ = cal.get("np", 1)
+    if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
+        raise InputError(f"{where}.np = {np_!r} must be an integer in [1, 4096]")
+    given = cal[kind]
+    files = given if kind == "curves" else [given]
+    if not isinstance(files, list) or not files or \
+            not all(isinstance(f, str) for f in files):
+        raise InputError(f"{where}.{kind} = {given!r} must be "
+                         + ("a non-empty list of file names" if kind == "curves"
+                            else "a preset name or a spec file name"))
+    tip = cal.get("tip", "")
+    if tip:
+        from filmscale.continuum.tips import parse_tip
+        parse_tip(tip)
+    tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
+                     low=1e-4, high=1.0)
+    return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol)
+
+
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
                    ) -> PipelineScene:
     """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
@@ -183,40 +222,20 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
     for k, layer in enumerate(layers if isinstance(layers, list) else []):
         if not isinstance(layer, dict) or "calibrate" not in layer:
             continue
-        where = f"target.layers[{k}].calibrate"
         cal = layer.pop("calibrate")
-        allowed = set(SOURCE_KINDS) | {"np", "tip", "tolerance"}
-        kinds = [key for key in SOURCE_KINDS if isinstance(cal, dict) and key in cal]
-        if not isinstance(cal, dict) or set(cal) - allowed or len(kinds) != 1:
-            raise InputError(f"{where} takes exactly one of md (an MD preset or spec file), "
-                             "particles (a particle-model preset or spec file) or curves (a "
-                             f"list of curve files), and np, tip, tolerance; got {cal!r}")
-        kind = kinds[0]
-        np_ = cal.get("np", 1)
-        if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
-            raise InputError(f"{where}.np = {np_!r} must be an integer in [1, 4096]")
-        given = cal[kind]
-        files = given if kind == "curves" else [given]
-        if not isinstance(files, list) or not files or \
-                not all(isinstance(f, str) for f in files):
-            raise InputError(f"{where}.{kind} = {given!r} must be "
-                             + ("a non-empty list of file names" if kind == "curves"
-                                else "a preset name or a spec file name"))
-        tip = cal.get("tip", "")
-        if tip:
-            from filmscale.continuum.tips import parse_tip
-            parse_tip(tip)
-        tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
-                         low=1e-4, high=1.0)
-        if "E" in layer and "sigma_y" in layer:
-            continue            # given properties win: no calibration run (rule 1)
-        src = CalibrationSource(k, str(layer.get("name", f"layer {k}")), kind, tuple(files),
-                                np_, str(tip), tol)
-        if kind == "curves":
-            src.curves(base)    # readable, each with an indenter, before any work
-        else:
-            src.spec(base)      # the spec's own checks, before any work
-        sources.append(src)
+        tables = cal if isinstance(cal, list) and cal else [cal]
+        given = "E" in layer and "sigma_y" in layer     # given properties win (rule 1)
+        for j, table in enumerate(tables):
+            where = f"target.layers[{k}].calibrate" + (f"[{j}]" if isinstance(cal, list)
+                                                       else "")
+            src = _calibration_source(table, where, k, str(layer.get("name", f"layer {k}")))
+            if given:
+                continue
+            if src.kind == "curves":
+                src.curves(base)    # readable, each with an indenter, before any work
+            else:
+                src.spec(base)      # the spec's own checks, before any work
+            sources.append(src)
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)
     placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in sources}
@@ -259,8 +278,9 @@ class Plan:
         return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
 
 
-def _calibration_step(src: CalibrationSource, base: Path) -> Step:
-    """The plan step of one calibration source, its cost from measured throughputs."""
+def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
+    """The plan step of one calibration source, its cost from measured throughputs;
+    ``joint``: one of several sources of its layer."""
     fit = (f"then a calibration (sphere tips: least squares to the contact law; sharp tips: "
            f"Dao reverse analysis) and a cross-scale check to {src.tolerance:.0%} rms")
     spec = src.spec(base)
@@ -279,9 +299,26 @@ def _calibration_step(src: CalibrationSource, base: Path) -> Step:
     else:
         cost = 0.0
         model = f"curves from {', '.join(src.source)} {fit}"
-    return Step(f"calibrate {src.name}", model,
+    return Step(f"calibrate {src.name}" + (f" from {src.label}" if joint else ""), model,
                 "the layer's E and sigma_y are not given (rule 1)",
                 "the fit's own standard deviations, reported with the calibration", cost)
+
+
+def _joint_step(name: str, sources: list[CalibrationSource]) -> Step:
+    return Step(f"calibrate {name} jointly",
+                f"one Nix-Gao law of sigma_y over {', '.join(s.label for s in sources)} "
+                "(weighted least squares; E and n inverse-variance means); a cross-scale "
+                "check per source",
+                "the layer has several sources: nanometre and micrometre strengths both "
+                "reach the depth profile", "standard deviations of the joint fit", 0.0)
+
+
+def layer_sources(pipeline: PipelineScene) -> dict[int, list[CalibrationSource]]:
+    """The calibration sources of each layer to calibrate, in scene order."""
+    by_layer: dict[int, list[CalibrationSource]] = {}
+    for src in pipeline.calibrations:
+        by_layer.setdefault(src.layer, []).append(src)
+    return by_layer
 
 
 def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
@@ -383,7 +420,11 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
                h_star: dict[int, float] | None = None) -> Plan:
     """The whole plan; impact steps wait for the calibrations unless all layers are known.
     The calibration steps stay in the plan once done, so that the stored plan is complete."""
-    steps = [_calibration_step(s, pipeline.base) for s in pipeline.calibrations]
+    steps = []
+    for sources in layer_sources(pipeline).values():
+        steps += [_calibration_step(s, pipeline.base, len(sources) > 1) for s in sources]
+        if len(sources) > 1:
+            steps.append(_joint_step(sources[0].name, sources))
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
     if missing:
         steps.append(Step("impact", "chosen after calibration",
@@ -498,42 +539,58 @@ def _file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
-                     ) -> Calibration:
-    """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis. Tips of MD and
-    particle runs are rigid; tips of curve files are taken as diamond."""
+def _tip_counterpart(src: CalibrationSource):
+    """Tips of MD and particle runs are rigid; tips of curve files are taken as diamond:
+    (sphere indenter, sharp-tip E_i)."""
     from filmscale.continuum.materials import DIAMOND
     from filmscale.continuum.reverse import E_I_DAO
+    return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
+
+
+def _sharp_tip(src: CalibrationSource, curves: list) -> str | None:
+    """The one sharp tip of the curves, or None when all are spheres."""
     from filmscale.continuum.tips import Sphere, parse_tip
-    from .calibration import calibrate_sharp
-    rigid = src.kind != "curves"
     spheres = [isinstance(parse_tip(c.indenter), Sphere) for c in curves]
     if all(spheres):
-        return calibrate_sphere(curves, nu=nu, law=law, layer=src.name,
-                                indenter=None if rigid else DIAMOND)
+        return None
     tips = {c.indenter for c in curves}
     if any(spheres) or len(tips) != 1:
         raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
                          f"({', '.join(sorted(tips))}); calibrate from one tip shape")
-    tip = tips.pop()
-    cal = calibrate_sharp(curves, nu=nu, tip=tip, layer=src.name,
-                          E_i=math.inf if rigid else E_I_DAO)
+    return tips.pop()
+
+
+def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
+                     ) -> Calibration:
+    """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis (with the Nix-Gao
+    length of sigma_y from three or more depths)."""
+    from .calibration import calibrate_sharp
+    indenter, E_i = _tip_counterpart(src)
+    tip = _sharp_tip(src, curves)
+    if tip is None:
+        return calibrate_sphere(curves, nu=nu, law=law, layer=src.name, indenter=indenter)
+    cal = calibrate_sharp(curves, nu=nu, tip=tip, layer=src.name, E_i=E_i)
     depths = {round(float(np.max(c.h)), 12) for c in curves}
-    return with_size_effect(cal, curves, tip) if len(depths) >= 3 else cal
+    return with_size_effect(cal, curves, tip, E_i=E_i) if len(depths) >= 3 else cal
 
 
-def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
-                     law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
-    """Calibrate (or reuse the calibration of) a source's curves."""
-    origin = run_path.name if run_path is not None else \
-        {f: _file_digest(Path(base) / f) for f in src.source}
-    path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
-                                          "layer": src.name, "tip": src.tip})
+def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, law: str
+                     ) -> CalibrationPart:
+    """A source's calibration as a joint calibration of its layer takes it."""
+    indenter, E_i = _tip_counterpart(src)
+    tip = _sharp_tip(src, curves)
+    if tip is None:
+        return sphere_part(src.label, cal, curves, law, indenter)
+    return sharp_part(src.label, cal, curves, tip, E_i=E_i)
+
+
+def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
+    """The calibration stored in unit ``path`` (reused), or ``compute()`` stored there."""
     record = _done(path)
     reused = record is not None
     if not reused:
         path.mkdir(parents=True, exist_ok=True)
-        cal = calibrate_curves(src, curves, nu, law)
+        cal = compute()
         fitted = {}
         for i, (h, P, F) in enumerate(cal.fitted_curves):
             fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
@@ -544,7 +601,27 @@ def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list
     with np.load(path / "fit.npz") as d:
         fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
                        for i in range(len(d.files) // 3))
-    cal = _calibration_from_dict(record, fitted)
+    return _calibration_from_dict(record, fitted), reused
+
+
+def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
+                     law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
+    """Calibrate (or reuse the calibration of) a source's curves."""
+    origin = run_path.name if run_path is not None else \
+        {f: _file_digest(Path(base) / f) for f in src.source}
+    path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
+                                          "layer": src.name, "tip": src.tip})
+    cal, reused = _stored_calibration(path, lambda: calibrate_curves(src, curves, nu, law))
+    return cal, path, reused
+
+
+def joint_unit(name: str, parts, part_units: list[Path], store: Path
+               ) -> tuple[Calibration, Path, bool]:
+    """The joint calibration of a layer from its sources' calibration units; ``parts()``
+    gives the `CalibrationPart` of each (built only when the unit runs)."""
+    path = unit_dir(store, "calibration-joint", {"layer": name,
+                                                 "parts": [p.name for p in part_units]})
+    cal, reused = _stored_calibration(path, lambda: combine(parts(), name))
     return cal, path, reused
 
 
@@ -552,7 +629,7 @@ def _calibration_from_dict(d: dict, fitted) -> Calibration:
     d = dict(d)
     for key in ("E", "sigma_y", "n"):
         d[key] = Parameter(**d[key])
-    for key in ("sources", "warnings"):
+    for key in ("sources", "warnings", "curve_sources", "components"):
         d[key] = tuple(d[key])
     if d.get("h_star") is not None:
         d["h_star"] = Parameter(**d["h_star"])
@@ -574,19 +651,30 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     calibrations: dict[int, Calibration] = {}
     checks: dict[int, CrossCheck] = {}
     run_records: dict[str, dict] = {}
-    for src in pipeline.calibrations:
-        run_path, reused, curves = source_unit(src, pipeline.base, store)
-        if run_path is not None:
-            units[run_path.name] = "reused" if reused else "ran"
-            run_records[f"{src.kind}_{src.layer}"] = _done(run_path)
-        layer = pipeline.data["target"]["layers"][src.layer]
-        law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
-        cal, cal_path, reused = calibration_unit(src, run_path, curves, float(layer["nu"]),
-                                                 law, pipeline.base, store)
-        units[cal_path.name] = "reused" if reused else "ran"
-        calibrations[src.layer] = cal
-        checks[src.layer] = cal.cross_check(src.tolerance)
-        _say(cal.summary() + "\n  " + checks[src.layer].text())
+    law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
+    for k, sources in layer_sources(pipeline).items():
+        nu = float(pipeline.data["target"]["layers"][k]["nu"])
+        parts, part_units = [], []
+        for src in sources:
+            run_path, reused, curves = source_unit(src, pipeline.base, store)
+            if run_path is not None:
+                units[run_path.name] = "reused" if reused else "ran"
+                run_records[f"{src.kind}_{k}" + (f"_{len(part_units)}" if len(sources) > 1
+                                                 else "")] = _done(run_path)
+            cal, cal_path, reused = calibration_unit(src, run_path, curves, nu, law,
+                                                     pipeline.base, store)
+            units[cal_path.name] = "reused" if reused else "ran"
+            part_units.append(cal_path)
+            parts.append((src, cal, curves))
+        if len(sources) > 1:
+            cal, cal_path, reused = joint_unit(
+                sources[0].name, lambda: [calibration_part(*p, law) for p in parts],
+                part_units, store)
+            units[cal_path.name] = "reused" if reused else "ran"
+        calibrations[k] = cal
+        checks[k] = [cal.cross_check(s.tolerance, s.label if len(sources) > 1 else "")
+                     for s in sources]
+        _say(cal.summary() + "".join(f"\n  {c.text()}" for c in checks[k]))
     materials = {k: c.material() for k, c in calibrations.items()}
     h_star = {k: c.h_star.value for k, c in calibrations.items() if c.h_star is not None}
     plan = plan_scene(pipeline, materials, h_star)
@@ -653,13 +741,16 @@ def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndar
 
 
 def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
-                       calibrations: dict[int, Calibration], checks: dict[int, CrossCheck],
+                       calibrations: dict[int, Calibration],
+                       checks: dict[int, list[CrossCheck]],
                        impact_path: Path,
                        run_records: dict[str, dict]) -> Path:
     """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
     profile, impact results; SI datasets with unit attributes; provenance attributes, with
     each run unit's record as ``md_<layer>`` (LAMMPS version, potential checksum, seeds) or
-    ``particles_<layer>`` (LAMMPS version, method, particles, steps)."""
+    ``particles_<layer>`` (LAMMPS version, method, particles, steps), ``..._<layer>_<i>`` for
+    the i-th of several sources of a layer. ``cross_check`` of a layer is a JSON list, one
+    check per source; each ``curve_<i>`` of a joint calibration names its ``source``."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     extra = {k: json.dumps(r) for k, r in run_records.items()}
@@ -681,9 +772,11 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                 c.attrs[name] = p.value
                 c.attrs[f"{name}_std"] = p.std
                 c.attrs[f"{name}_identified"] = p.identified
-            c.attrs["cross_check"] = json.dumps(checks[k].to_dict())
+            c.attrs["cross_check"] = json.dumps([check.to_dict() for check in checks[k]])
             for i, (h, P, F) in enumerate(cal.fitted_curves):
                 curve = c.create_group(f"curve_{i}")
+                if cal.curve_sources:
+                    curve.attrs["source"] = cal.curve_sources[i]
                 for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
                     curve.create_dataset(name, data=data).attrs["units"] = unit
         prof = profile_table(scene, scene.impactor.radius)

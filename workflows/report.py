@@ -36,9 +36,15 @@ def _result_file(result: Path):
     return f
 
 
+def _checks(group) -> list[CrossCheck]:
+    return [CrossCheck(**c) for c in json.loads(group.attrs["cross_check"])]
+
+
 def _draw_calibration(ax, group, title: str):
-    """Each calibration curve (points) and the calibrated forward model (line)."""
-    curves = sorted(k for k in group if k.startswith("curve_"))
+    """Each calibration curve (points) and the calibrated forward model (line); log axes
+    where the curves span more than a decade of depth (nanometre and micrometre sources)."""
+    curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
+    depths = [float(group[k]["h"][()].max()) for k in curves]
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
         color = f"C{i % 10}"
@@ -46,6 +52,9 @@ def _draw_calibration(ax, group, title: str):
                 label="calibration curve" if i == 0 else None)
         ax.plot(h * 1e9, F * 1e9, "-", color=color,
                 label="calibrated forward model" if i == 0 else None)
+    if depths and max(depths) > 10 * min(depths):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel("load P (nN)")
     ax.set_title(title, fontsize=9)
@@ -101,9 +110,9 @@ def write_figure(result, out) -> Path:
                                  constrained_layout=True)
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
-            check = CrossCheck(**json.loads(g.attrs["cross_check"]))
+            rms = ", ".join(f"{c.rms:.0%}" for c in _checks(g))
             _draw_calibration(axes[0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} GPa, "
-                              f"sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({check.rms:.0%} rms)")
+                              f"sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({rms} rms)")
         _draw_profile(axes[1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
             for ax, panel in zip(axes[2:], MAP_PANELS[:2]):
@@ -140,7 +149,6 @@ def write_report(result, out=None) -> Path:
         for key in f["calibration"]:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
-            check = CrossCheck(**json.loads(g.attrs["cross_check"]))
             rows = [(name, f"{cal[name]['value']:.4g}",
                      f"{cal[name]['std']:.3g}" if cal[name]["std"] == cal[name]["std"]
                      else "-", cal[name]["unit"],
@@ -151,8 +159,15 @@ def write_report(result, out=None) -> Path:
                       f"{html.escape(cal['uncertainty'])}; rms misfit "
                       f"{cal['rms']:.2%} of the largest load over {cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
-                      f"<p><b>{html.escape(check.text())}</b></p>",
+                      *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
                       _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}")]
+            if cal.get("components"):
+                parts.append(_table(
+                    [(c["source"], c["route"], f"{c['E']['value']:.4g}",
+                      f"{c['E_joint']['value']:.4g}", f"{c['sigma_y']['value']:.4g}")
+                     for c in cal["components"]],
+                    ("source", "route", "E alone (Pa)", "E in the joint fit (Pa)",
+                     "sigma_y alone (Pa)")))
             parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
         radius = float(f["impact/point/radius"][()])
         parts += ["<h2>Depth profile</h2>", _panel(_draw_profile, f["profile"], radius),

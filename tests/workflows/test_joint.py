@@ -10,6 +10,7 @@ import pytest
 
 from filmscale.continuum.contact_laws import contact_law
 from filmscale.continuum.curves import LoadDisplacementCurve
+from filmscale.continuum.materials import ElasticPlastic
 from filmscale.workflows.calibration import calibrate_sharp, calibrate_sphere
 from filmscale.workflows.joint import combine, sharp_part, sphere_part
 from tests.workflows.test_calibration import synthetic_sharp_curve
@@ -26,11 +27,13 @@ def strength(d, sy0=SY0, h_star=H_STAR):
     return sy0 * np.sqrt(1 + h_star / np.asarray(d))
 
 
-def md_curve(rng, E_md=E, h_star=H_STAR, pop_at=None, noise=0.005, points=100):
+def md_curve(rng, E_md=E, h_star=H_STAR, pop_at=None, noise=0.005, points=100,
+             indenter=None):
     """Sphere loading through the law with sigma_y(delta) at each approach; with ``pop_at``
-    the pristine crystal follows Hertz up to that depth and drops onto the law there."""
+    the pristine crystal follows Hertz up to that depth and drops onto the law there. The
+    tip is rigid (MD) unless an ``indenter`` is given."""
     h = np.linspace(H_MD / points, H_MD, points)
-    E_s = E_md / (1 - NU**2)
+    E_s = ElasticPlastic(E_md, NU).reduced_modulus(indenter)
     P = LAW.contact(h, R_MD, E_s, strength(h, h_star=h_star), NU).force
     if pop_at is not None:
         P = np.where(h <= pop_at, 4 / 3 * E_s * math.sqrt(R_MD) * h**1.5, P)

@@ -196,7 +196,7 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
         g = f["calibration/0"]
         assert abs(g.attrs["E"] - E) < 3 * g.attrs["E_std"]
         assert abs(g.attrs["sigma_y"] - sy) < 3 * g.attrs["sigma_y_std"]
-        check = json.loads(g.attrs["cross_check"])
+        (check,) = json.loads(g.attrs["cross_check"])
         assert check["passed"] and check["rms"] == pytest.approx(0.01, rel=0.3)
         assert json.loads(f.attrs["plan"])["steps"][0]["name"] == "calibrate film"
     assert "cross-scale check passed" in write_report(result.path).read_text()
@@ -217,6 +217,14 @@ def test_calibration_sources_are_checked_before_any_run(tmp_path):
                           "s.toml", tmp_path)
     plan = pl.plan_scene(scene(film='[target.layers.calibrate]\nparticles = "ci"'))
     assert "particle-model indentation (ci" in plan.steps[0].model and plan.steps[0].cost_s > 0
+    with pytest.raises(InputError, match=r"target.layers\[0\].calibrate\[1\].np = 0"):
+        scene(film='[[target.layers.calibrate]]\nmd = "ci"\n'
+                   '[[target.layers.calibrate]]\nparticles = "ci"\nnp = 0')
+    both = pl.plan_scene(scene(film='[[target.layers.calibrate]]\nmd = "ci"\n'
+                                    '[[target.layers.calibrate]]\nparticles = "ci"'))
+    assert [s.name for s in both.steps[:3]] == ["calibrate film from md:ci",
+                                                "calibrate film from particles:ci",
+                                                "calibrate film jointly"]
 
 
 def test_cross_check_passes_at_the_noise_and_fails_below_it():
@@ -278,3 +286,55 @@ def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
     sy = prof.strengths(np.array([1e-7]))[0, 0]
     assert sy == pytest.approx(cal["sigma_y"]["value"] * np.sqrt(1 + cal["h_star"]["value"]
                                                                  / 1e-7), rel=1e-12)
+
+
+def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tmp_path):
+    """Two sources of one layer ([[target.layers.calibrate]]): a nanometre sphere curve (text
+    file, the MD-like curve of tests/workflows/test_joint.py) and Berkovich curves at 1-5 um
+    (HDF5), both from sigma_y = 0.3 GPa sqrt(1 + 2 um / d) and a diamond tip (curve files
+    are read as measured with diamond). The plan names each source and
+    the joint step; the joint law recovers sigma_y0 within 5 % and h* within 10 % (as in
+    test_joint); the result stores one cross-scale check per source and the report shows
+    both; a rerun reuses all four units."""
+    from filmscale.continuum.io import CURVE_FORMAT, write_curve_group
+    from tests.workflows import test_joint as tj
+    from filmscale.continuum.materials import DIAMOND
+    md = tj.md_curve(np.random.default_rng(1), indenter=DIAMOND)
+    (tmp_path / "nm.csv").write_text(
+        "h [nm], P [nN]\n" + "".join(f"{a * 1e9:.8f}, {b * 1e9:.8f}\n"
+                                     for a, b in zip(md.h, md.P)))
+    with h5py.File(tmp_path / "um.h5", "w") as f:
+        for i, c in enumerate(tj.sharp_curves()):
+            g = f.create_group(f"indent_{i}")
+            g.attrs["format"] = CURVE_FORMAT
+            write_curve_group(g, c)
+    film = ('[[target.layers.calibrate]]\ncurves = ["nm.csv"]\ntip = "sphere:5nm"\n'
+            'tolerance = 0.02\n[[target.layers.calibrate]]\ncurves = ["um.h5"]\n'
+            'tolerance = 0.02')
+    text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=film,
+                       want='["maxima"]').replace("nu = 0.3\n", f"nu = {tj.NU}\n") + \
+        '[model]\ncontact_law = "komvopoulos-ye-continuous"\n'
+    sc = pl.parse_pipeline(text, "two.toml", tmp_path)
+    assert [s.label for s in sc.calibrations] == ["curves:nm.csv", "curves:um.h5"]
+    result = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
+    assert [s.name for s in result.plan.steps[:3]] == [
+        "calibrate film from curves:nm.csv", "calibrate film from curves:um.h5",
+        "calibrate film jointly"]
+    assert sorted(k.split("-")[0] for k in result.units) == [
+        "calibration", "calibration", "calibration", "impact"]
+    assert sum(k.startswith("calibration-joint") for k in result.units) == 1
+    with h5py.File(result.path, "r") as f:
+        g = f["calibration/0"]
+        cal = json.loads(g.attrs["calibration"])
+        checks = json.loads(g.attrs["cross_check"])
+        sources = {g[k].attrs["source"] for k in g if k.startswith("curve_")}
+    assert cal["route"] == "joint"
+    assert cal["sigma_y"]["value"] == pytest.approx(tj.SY0, rel=0.05)
+    assert cal["h_star"]["value"] == pytest.approx(tj.H_STAR, rel=0.10)
+    assert [c["source"] for c in checks] == ["curves:nm.csv", "curves:um.h5"]
+    assert all(c["passed"] for c in checks) and sources == {"curves:nm.csv", "curves:um.h5"}
+    report = write_report(result.path).read_text()
+    assert "cross-scale check of curves:nm.csv passed" in report
+    assert "E in the joint fit" in report
+    again = pl.run_scene(sc, tmp_path / "store", tmp_path / "r2.h5")
+    assert set(again.units.values()) == {"reused"} and len(again.units) == 4

@@ -85,6 +85,9 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
                        r, float(P.max())))
         free = free and pop is None
     fitted = [d for d in fitted if d[0].size]
+    if not fitted:      # a pop-in at the last point: the source gives E alone
+        raise InputError(f"{label}: no loading points after the pop-in; a joint "
+                         "calibration needs the source's plastic loading")
 
     def e_star(E):
         return reduced_modulus(E / (1.0 - nu**2), indenter)

@@ -39,13 +39,12 @@ from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact_laws import ContactLaw, contact_law
 from filmscale.continuum.errors import InputError
-from filmscale.continuum.materials import (ElasticPlastic, modulus_from_reduced,
-                                           reduced_modulus)
+from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_forward
 
 from .calibration import (IDENTIFIABLE_RSD, MIN_REL_STD, Calibration, Parameter,
-                          StrengthPoint, _loading_points, _sphere_radius, nix_gao_strengths,
-                          sharp_strength_points)
+                          StrengthPoint, _loading_points, _modulus, _sphere_radius,
+                          nix_gao_strengths, sharp_strength_points)
 
 #: floor of a sphere source's noise in the joint weights (as a fraction of its largest load)
 MIN_NOISE = 1e-4
@@ -103,10 +102,7 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
         return misfit(math.exp(own[0]) if free else E_own, sigma_at) / noise
 
     def modulus(own, std_ln):
-        E_star = math.exp(own[0])
-        E = float(modulus_from_reduced(E_star, nu, compliance))
-        return Parameter(E, E**2 / ((1 - nu**2) * E_star) * std_ln, "Pa",
-                         bool(std_ln < IDENTIFIABLE_RSD), "the joint fit's E*")
+        return _modulus(math.exp(own[0]), std_ln, nu, compliance)
 
     # where its own fit puts sigma_y: the depth weighted by (dF/dsigma_y)^2, the points
     # that decide a constant sigma_y

@@ -19,8 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import (ElasticPlastic, ImpactModel, Layer, LayerStack, contact_law,
-                                 elastic_impact, yield_velocity)
+from filmscale.continuum import ElasticPlastic, ImpactModel, Layer, LayerStack, elastic_impact
+from filmscale.continuum.contact.hertz import yield_velocity
+from filmscale.continuum.contact.laws import contact_law
 
 FIELDS = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max", "contact_time",
           "restitution")

@@ -23,9 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum.curves import synthetic_curve
-from filmscale.continuum.tips import berkovich
 from filmscale.workflows.indent import AnalysisOptions, analyze_files
+from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.tips import berkovich
 
 TIP = berkovich()
 
@@ -88,7 +88,7 @@ def noise_table(n: int):
     print(f"\n2. Error against load noise ({n} curves per level, one process, in memory)")
     print(f"{'noise/P_max':>11} {'ms/curve':>9} | {'E_r err median':>14} {'p95':>9} {'max':>9} "
           f"| {'H err median':>12} {'p95':>9} {'max':>9}")
-    from filmscale.continuum.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     from filmscale.continuum.indentation import oliver_pharr
     for level in (0.0, 0.001, 0.003, 0.01):
         params = population(n, seed=2, noise=level)
@@ -110,7 +110,7 @@ def _pct(value, digits=1):
 
 
 def reverse_tables():
-    from filmscale.continuum import reverse
+    from filmscale.continuum.indentation import reverse
 
     print("\n3. Reverse analysis against the finite-element cases (Dao framework data): median "
           "and p90 of |relative error| (n: absolute)")

@@ -24,10 +24,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))    # the tests' curve builders
 
-from filmscale.workflows.calibration import calibrate_sharp, calibrate_sphere  # noqa: E402
-from filmscale.workflows.joint import combine, sharp_part, sphere_part  # noqa: E402
 from tests.workflows import test_joint as tj  # noqa: E402
 from tests.workflows.test_calibration import synthetic_sharp_curve  # noqa: E402
+from filmscale.continuum.calibration.joint import combine, sharp_part, sphere_part
+from filmscale.continuum.calibration.sharp import calibrate_sharp
+from filmscale.continuum.calibration.sphere import calibrate_sphere
 
 
 def joint(md, sharp, nu, md_tip_law=tj.LAW):

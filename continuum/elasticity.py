@@ -22,8 +22,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import InputError, check_float_array, check_real
 from .materials import ElasticPlastic, reduced_modulus as _reduced_modulus
+from filmscale.core.checks import check_float_array, check_real
+from filmscale.core.errors import InputError
 
 #: smallest eigenvalue of an accepted stiffness, relative to the largest: below it C is
 #: singular to working precision and S = C^-1 (hence the Reuss bound) is meaningless

@@ -11,8 +11,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from filmscale.core.checks import MODULUS_MAX, THICKNESS_MAX, check_real
+from filmscale.core.errors import InputError
 
-from .errors import MODULUS_MAX, THICKNESS_MAX, InputError, check_real
 
 
 @dataclass(frozen=True)

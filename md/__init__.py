@@ -3,10 +3,3 @@
 Everything that touches LAMMPS lives here and returns the continuum package's data types in
 SI. Importing the package loads no LAMMPS library; `engine.load_library` does, on first use.
 """
-
-from importlib import metadata as _metadata
-
-try:
-    __version__ = _metadata.version("filmscale")
-except _metadata.PackageNotFoundError:     # a source tree without an install
-    __version__ = "unknown"

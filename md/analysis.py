@@ -8,16 +8,17 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from filmscale.continuum.curves import LOAD, UNLOAD, LoadDisplacementCurve
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.indentation import (OliverPharrResult, detect_load_drop, hertz_fit,
-                                             load_noise_sigma, oliver_pharr,
-                                             pop_in_shear_stress)
-from filmscale.continuum.tips import Sphere
+from filmscale.continuum.indentation import OliverPharrResult, hertz_fit, oliver_pharr
 from filmscale.md.contact import ContactAnalysis, read_dumps
 from filmscale.md.elastic import ElasticConstants
 from filmscale.md.indentation import SphereIndenter
 from filmscale.md.run import IndentRun
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.spherical import detect_load_drop, pop_in_shear_stress
+from filmscale.continuum.indentation.tips import Sphere
+from filmscale.core.errors import InputError
+from filmscale.continuum.indentation.curves import LOAD, UNLOAD
+from filmscale.core.noise import noise_sigma
 
 #: Agreement between the Hertzian segment and E* of the potential's Hill-averaged elastic
 #: constants: an anisotropic crystal under a few-nm sphere departs from isotropic Hertz by
@@ -119,7 +120,7 @@ def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
     curve = run.curve.finite()
     spec = run.spec
     loading = curve.P[curve.segment == LOAD]
-    noise = load_noise_sigma(loading[loading > 0])
+    noise = noise_sigma(loading[loading > 0])
     drop = detect_load_drop(curve, threshold=popin_threshold)
     E_star = elastic.E_star if elastic is not None else math.nan
     nan = math.nan

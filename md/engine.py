@@ -27,8 +27,8 @@ from importlib import metadata, util
 from pathlib import Path
 
 import numpy as np
+from filmscale.core.errors import InputError
 
-from filmscale.continuum.errors import InputError
 
 
 class LammpsUnavailable(RuntimeError):

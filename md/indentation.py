@@ -22,10 +22,11 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from filmscale.continuum.errors import InputError, check_positive, check_real
 from filmscale.md.structures import Slab, SlabSpec, build_slab
 from filmscale.md.units import from_si, to_si
 from filmscale.potentials import Potential
+from filmscale.core.checks import check_positive, check_real
+from filmscale.core.errors import InputError
 
 #: fix indent force constant, 10 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
 #: sqrt(F/K) = 0.32 A inside the nominal sphere (lammps.md measured protocols use it).

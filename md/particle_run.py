@@ -18,13 +18,14 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum.curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
-from filmscale.continuum.hertz import elastic_impact, hertz_force
-from filmscale.continuum.tips import Sphere
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.particles import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, ParticleImpactSpec,
                                     ParticleIndentSpec, estimated_steps, input_text)
 from filmscale.md.units import to_si
+from filmscale.continuum.contact.hertz import elastic_impact, hertz_force
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.tips import Sphere
+from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
 
 STATE_FILE = "state.json"
 #: The unloading load below which the contact counts as open: 1 % of the peak load.
@@ -312,8 +313,9 @@ def write_particle_record(run: ParticleRun, result: IndentResult | ImpactOutcome
     against load, with time), ``result`` (attributes, SI), ``inputs`` (the LAMMPS input and
     the spec as JSON), ``snapshots`` (the field dump files); provenance (filmscale and LAMMPS
     versions and packages, the command) as root attributes."""
-    from filmscale.continuum.io import atomic_h5, write_curve_group
-    from filmscale.md import __version__
+    from filmscale.continuum.indentation.io import write_curve_group
+    from filmscale.core.files import atomic_h5
+    from filmscale import __version__
     from filmscale.md.engine import lammps_info
 
     path = Path(path) if path is not None else run.run_dir / RECORD_NAME

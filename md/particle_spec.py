@@ -41,10 +41,10 @@ import math
 import tomllib
 from pathlib import Path
 
-from filmscale.continuum.errors import InputError
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
                                     ParticleIndentSpec, ParticleMaterial, ParticleTarget)
+from filmscale.core.errors import InputError
 
 _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
 _R = 1e-6

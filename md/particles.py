@@ -27,10 +27,11 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
-from filmscale.continuum.errors import InputError, check_choice, check_real
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
-from filmscale.continuum.tips import Cone, Sphere, Tip, parse_tip
 from filmscale.md.units import from_si
+from filmscale.continuum.indentation.tips import Cone, Sphere, Tip, parse_tip
+from filmscale.core.checks import check_choice, check_real
+from filmscale.core.errors import InputError
 
 METHODS = ("tlsph", "peri")
 

@@ -3,6 +3,9 @@ elastic constants, the inputs and the provenance, written atomically."""
 
 from __future__ import annotations
 
+from filmscale import __version__
+
+
 import json
 import platform
 import sys
@@ -10,12 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum.io import atomic_h5, read_curve_group, write_curve_group
-from filmscale.md import __version__
 from filmscale.md.analysis import IndentAnalysis
 from filmscale.md.elastic import ElasticConstants
 from filmscale.md.engine import lammps_info
 from filmscale.md.run import IndentRun
+from filmscale.continuum.indentation.io import read_curve_group, write_curve_group
+from filmscale.core.files import atomic_h5
 
 RECORD_FORMAT = "filmscale.md_indent/1"
 RECORD_NAME = "indent.h5"

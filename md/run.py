@@ -10,6 +10,9 @@ curve keeps, for every step, the row of the latest part that reached it.
 
 from __future__ import annotations
 
+from filmscale import __version__
+
+
 import json
 import re
 import time
@@ -20,13 +23,12 @@ from pathlib import Path
 import numpy as np
 from ase.io import write as ase_write
 
-from filmscale.continuum.curves import LoadDisplacementCurve
-from filmscale.continuum.io import atomic_path
-from filmscale.md import __version__
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
                                       derive_seeds, indentation_input, resume_input)
 from filmscale.md.units import to_si
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.core.files import atomic_path
 
 STATE_FILE = "state.json"
 _RESTART = re.compile(r"^restart\.(\d+)\.bin$")

@@ -32,11 +32,12 @@ import copy
 import tomllib
 from pathlib import Path
 
-from filmscale.continuum.errors import InputError
 from filmscale.md.indentation import (ConeIndenter, IndentProtocol, IndentSpec,
                                       SphereIndenter)
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
-from filmscale.potentials import Potential, potential_from_mapping
+from filmscale.potentials import Potential
+from filmscale.core.errors import InputError
+from filmscale.potentials.registry import potential_from_mapping
 
 PRESETS: dict[str, dict] = {
     "ci": {

@@ -16,15 +16,17 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import MAP_FIELDS, impact_map
-from filmscale.continuum.errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError,
-                                        ModelRangeError, check_real)
-from filmscale.continuum.io import atomic_path
+from filmscale.continuum import impact_map
 from filmscale.md.engine import LammpsError, LammpsUnavailable
 from filmscale.potentials import PotentialError
 
-from . import md_cli, particles_cli, pipeline_cli
 from .scene import MapSpec, Scene, load_scene
+from filmscale.continuum.contact.impact_map import MAP_FIELDS
+from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
+from filmscale.core.errors import InputError, ModelRangeError
+from filmscale.core.files import atomic_path
+
+from . import md_cli, particles_cli, pipeline_cli
 
 
 def _range_arg(text: str) -> tuple[float, float, int]:
@@ -155,7 +157,7 @@ def cmd_impact_map(args) -> int:
               f"impacts", file=sys.stderr)
     elapsed = time.perf_counter() - start
 
-    from .provenance import provenance
+    from filmscale.core.provenance import provenance
     from .store import write_impact_maps
     out = write_impact_maps(args.out, maps, {k: m.describe() for k, m in models.items()},
                             provenance(command=" ".join(sys.argv), scene_source=scene.source),
@@ -209,7 +211,7 @@ def _constant_arg(choices):
 
 
 def _lengths_arg(text: str) -> tuple[float, ...]:
-    from filmscale.continuum.tips import parse_length
+    from filmscale.continuum.indentation.tips import parse_length
     try:
         return tuple(parse_length(v, "--layers depth") for v in text.split(",") if v.strip())
     except InputError as err:
@@ -289,7 +291,7 @@ def cmd_indent_analyze(args) -> int:
                   f"h* = {nix_gao.h_star * 1e9:.4g} +- {nix_gao.h_star_std * 1e9:.2g} nm")
 
     if args.out:
-        from .provenance import provenance
+        from filmscale.core.provenance import provenance
         from .store import write_indentation_results
         profile_data = None
         if profile is not None:
@@ -319,7 +321,8 @@ def cmd_indent_analyze(args) -> int:
 
 
 def cmd_indent_reverse(args) -> int:
-    from filmscale.continuum.reverse import dao_reverse, dual_reverse
+    from filmscale.continuum.indentation.reverse.dao import dao_reverse
+    from filmscale.continuum.indentation.reverse.dual import dual_reverse
 
     common = dict(tip=args.tip, nu=args.nu, E_i=args.E_i, nu_i=args.nu_i, C_std=args.C_std,
                   dPdh_std=args.dPdh_std, WpWt_std=args.WpWt_std, h_m_std=args.hm_std,

@@ -16,13 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum.curves import drift_rate
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.indentation import (elastic_indent, nix_gao_fit, oliver_pharr,
-                                             shallow_depth_hardness)
-from filmscale.continuum.io import CURVE_SUFFIXES, HDF5_SUFFIXES, read_area_function, read_curves
-from filmscale.continuum.property_profile import property_profile
-from filmscale.continuum.tips import parse_tip
+from filmscale.continuum.indentation import nix_gao_fit, oliver_pharr
+from filmscale.continuum.indentation.curves import drift_rate
+from filmscale.continuum.indentation.io import (CURVE_SUFFIXES, HDF5_SUFFIXES, read_area_function,
+                                                read_curves)
+from filmscale.continuum.indentation.oliver_pharr import elastic_indent, shallow_depth_hardness
+from filmscale.continuum.indentation.property_profile import property_profile
+from filmscale.continuum.indentation.tips import parse_tip
+from filmscale.core.errors import InputError
 
 UNREADABLE = "unreadable"
 

@@ -12,10 +12,11 @@ import math
 import sys
 from pathlib import Path
 
-from filmscale.continuum.errors import InputError
-from filmscale.potentials import get_potential, registry, verify_all
+from filmscale.potentials import registry
+from filmscale.core.errors import InputError
+from filmscale.core.provenance import provenance
+from filmscale.potentials.registry import get_potential, verify_all
 
-from .provenance import provenance
 
 
 def _indent_spec(args):

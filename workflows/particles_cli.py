@@ -10,10 +10,10 @@ import json
 import math
 import sys
 from pathlib import Path
+from filmscale.core.errors import InputError
+from filmscale.core.provenance import provenance
 
-from filmscale.continuum.errors import InputError
 
-from .provenance import provenance
 
 
 def _spec(args):

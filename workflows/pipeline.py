@@ -47,17 +47,20 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import ImpactModel, contact_law
-from filmscale.continuum.errors import InputError, check_choice, check_real
-from filmscale.continuum.io import atomic_h5, atomic_path, read_text
+from filmscale.continuum import ImpactModel
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.continuum.profiles import StackProfile
 
-from .calibration import (Calibration, CrossCheck, Parameter, calibrate_sphere,
-                          with_size_effect)
-from .joint import CalibrationPart, combine, sharp_part, sphere_part
-from .provenance import provenance
 from .scene import Scene, read_toml, scene_from_data
+from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
+from filmscale.continuum.calibration.result import Calibration, CrossCheck, Parameter
+from filmscale.continuum.calibration.sharp import with_size_effect
+from filmscale.continuum.calibration.sphere import calibrate_sphere
+from filmscale.continuum.contact.laws import contact_law
+from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.core.checks import check_choice, check_real
+from filmscale.core.errors import InputError
+from filmscale.core.provenance import provenance
+from filmscale.core.files import atomic_h5, atomic_path, read_text
 
 OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
 FRICTION_LIMIT = 0.3
@@ -119,7 +122,7 @@ class CalibrationSource:
 
     def curves(self, base: Path) -> list:
         """The curves of curve files, each with its indenter (``tip`` where unnamed)."""
-        from filmscale.continuum.io import read_curves
+        from filmscale.continuum.indentation.io import read_curves
         out = []
         for name in self.source:
             for key, c in read_curves(Path(base) / name).items():
@@ -190,7 +193,7 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
                             else "a preset name or a spec file name"))
     tip = cal.get("tip", "")
     if tip:
-        from filmscale.continuum.tips import parse_tip
+        from filmscale.continuum.indentation.tips import parse_tip
         parse_tip(tip)
     tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
                      low=1e-4, high=1.0)
@@ -528,7 +531,7 @@ def source_unit(src: CalibrationSource, base: Path, store: Path
 
 def unit_curve(path: Path):
     """The curve of a finished MD or particle unit."""
-    from filmscale.continuum.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     d = np.load(path / "curve.npz")
     meta = _done(path)
     return LoadDisplacementCurve(d["h"], d["P"], segment=d["segment"],
@@ -543,13 +546,13 @@ def _tip_counterpart(src: CalibrationSource):
     """Tips of MD and particle runs are rigid; tips of curve files are taken as diamond:
     (sphere indenter, sharp-tip E_i)."""
     from filmscale.continuum.materials import DIAMOND
-    from filmscale.continuum.reverse import E_I_DAO
+    from filmscale.continuum.indentation.reverse.functions import E_I_DAO
     return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
 
 
 def _sharp_tip(src: CalibrationSource, curves: list) -> str | None:
     """The one sharp tip of the curves, or None when all are spheres."""
-    from filmscale.continuum.tips import Sphere, parse_tip
+    from filmscale.continuum.indentation.tips import Sphere, parse_tip
     spheres = [isinstance(parse_tip(c.indenter), Sphere) for c in curves]
     if all(spheres):
         return None
@@ -564,7 +567,7 @@ def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
                      ) -> Calibration:
     """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis (with the Nix-Gao
     length of sigma_y from three or more depths)."""
-    from .calibration import calibrate_sharp
+    from filmscale.continuum.calibration.sharp import calibrate_sharp
     indenter, E_i = _tip_counterpart(src)
     tip = _sharp_tip(src, curves)
     if tip is None:
@@ -712,7 +715,7 @@ def _chosen_model(scene: Scene, target: str, law: str) -> ImpactModel:
 
 
 def _impact_evaluation(scene: Scene, plan: Plan, path: Path):
-    from filmscale.continuum.impact_map import impact_map
+    from filmscale.continuum.contact.impact_map import impact_map
     model = _chosen_model(scene, plan.decisions["target"], plan.decisions["law"])
     imp = scene.impactor
     one = model.maxima(imp.velocity, imp.radius, imp.mass).result()

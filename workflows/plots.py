@@ -18,10 +18,11 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm  # noqa: E402
 from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
                                NullFormatter)
+from filmscale.continuum.contact.impact import ImpactHistory
+from filmscale.continuum.contact.impact_map import ImpactMap, MAP_FIELDS
+from filmscale.core.files import atomic_path
 
-from filmscale.continuum import MAP_FIELDS, ImpactHistory, ImpactMap  # noqa: E402
 
-from filmscale.continuum.io import atomic_path  # noqa: E402
 
 #: file formats the plots can be written in
 PLOT_FORMATS = tuple(sorted(FigureCanvasAgg.get_supported_filetypes()))
@@ -181,7 +182,7 @@ def plot_history(history: ImpactHistory, path, title: str = "") -> Path:
 def plot_curve_analysis(curve, result, path, title: str = "") -> Path:
     """One indentation curve with its Oliver-Pharr fits: the unloading power law over its
     window, the tangent of slope S at h_max, and h_c, h_f marked."""
-    from filmscale.continuum.curves import SEGMENT_NAMES
+    from filmscale.continuum.indentation.curves import SEGMENT_NAMES
 
     c = curve.finite()
     fig, ax = plt.subplots(figsize=(5.6, 4.2))

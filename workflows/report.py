@@ -12,12 +12,12 @@ from pathlib import Path
 
 import h5py
 
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.io import atomic_path
 
-from .calibration import CrossCheck
 from .pipeline import RESULT_FORMAT
 from .plots import plt
+from filmscale.continuum.calibration.result import CrossCheck
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_path
 
 
 def _png(fig) -> str:

@@ -9,11 +9,11 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+from filmscale.continuum.contact.impact import ImpactMaxima, STATUS_MESSAGES
+from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_h5
 
-from filmscale.continuum import ImpactMap, ImpactMaxima
-from filmscale.continuum.impact import STATUS_MESSAGES
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.io import atomic_h5
 
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
 

@@ -6,8 +6,8 @@ import pytest
 from filmscale.continuum.elasticity import (IsotropicAverage, cubic_stiffness,
                                             hexagonal_stiffness, stiffness_from_stress_strain,
                                             voigt_reuss_hill, zener_ratio)
-from filmscale.continuum.errors import InputError
 from filmscale.continuum.materials import DIAMOND, reduced_modulus
+from filmscale.core.errors import InputError
 
 GPa = 1e9
 

@@ -3,14 +3,17 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.contact_laws import LAW_NAMES, contact_law
-from filmscale.continuum.errors import InputError, ModelRangeError
-from filmscale.continuum.hertz import (elastic_impact, elastic_impact_time, yield_pressure_factor,
-                                       yield_velocity)
-from filmscale.continuum.impact import (EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT,
-                                        UNLOADING_OUT_OF_RANGE, ImpactModel)
+from filmscale.continuum.contact.impact import OK
+
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
-from filmscale.continuum.restitution import thornton_restitution
+from filmscale.continuum.contact.hertz import (elastic_impact, elastic_impact_time,
+                                               yield_pressure_factor, yield_velocity)
+from filmscale.continuum.contact.impact import ImpactModel
+from filmscale.continuum.contact.laws import LAW_NAMES, contact_law
+from filmscale.continuum.contact.restitution import thornton_restitution
+from filmscale.core.errors import InputError, ModelRangeError
+from filmscale.continuum.contact.impact import (EXCEEDS_RADIUS, UNLOADING_INCONSISTENT,
+                                                UNLOADING_OUT_OF_RANGE)
 
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
 SLIDER = ElasticPlastic(E=400e9, nu=0.23, name="AlTiC")
@@ -210,7 +213,7 @@ def test_film_far_thicker_than_the_contact_gives_the_film_answer():
     a = alone.contact_radius_max
     # the substrate's weight 1 - I0(t/a) times the film/substrate contrast (< 1) moves E* and
     # sigma_Y; the maxima scale with them at powers of at most ~1.5: bound 2 (1 - I0)
-    from filmscale.continuum.profiles import gao_i0
+    from filmscale.continuum.contact.profiles import gao_i0
     bound = 2 * (1 - gao_i0(10e-6 / a, 0.25))
     assert bound < 0.015
     for key in MAXIMA:
@@ -370,7 +373,7 @@ def test_residual_fit_beyond_its_range_is_marked_not_garbage():
 
 
 def test_progress_reports_every_block_and_ends_at_the_total():
-    from filmscale.continuum.impact_map import impact_map
+    from filmscale.continuum.contact.impact_map import impact_map
     calls = []
     res = impact_map(ImpactModel(GLASS, contact_law("hertz")), np.geomspace(1e-3, 1, 60),
                      np.geomspace(1e-6, 1e-4, 40), M, progress=lambda d, t: calls.append((d, t)))
@@ -380,7 +383,7 @@ def test_progress_reports_every_block_and_ends_at_the_total():
 
 
 def test_oversized_map_is_refused_before_any_work():
-    from filmscale.continuum.impact_map import impact_map
+    from filmscale.continuum.contact.impact_map import impact_map
     with pytest.raises(InputError, match="exceeds 4000000 points"):
         impact_map(ImpactModel(GLASS, contact_law("hertz")), np.ones(3000), np.ones(2000), M)
 

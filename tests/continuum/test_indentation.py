@@ -6,14 +6,17 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.curves import LOAD, LoadDisplacementCurve, synthetic_curve
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.indentation import (FAILED, calibrate_frame_compliance, detect_pop_in,
-                                             elastic_indent, hertz_fit, nix_gao_fit,
-                                             oliver_pharr, pop_in_shear_stress,
-                                             sample_modulus, shallow_depth_hardness)
+from filmscale.continuum.indentation import (calibrate_frame_compliance, detect_pop_in, hertz_fit,
+                                             nix_gao_fit, oliver_pharr)
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
-from filmscale.continuum.tips import Cone, Sphere, berkovich, parse_tip
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve, synthetic_curve
+from filmscale.continuum.indentation.oliver_pharr import (elastic_indent, sample_modulus,
+                                                          shallow_depth_hardness)
+from filmscale.continuum.indentation.spherical import pop_in_shear_stress
+from filmscale.continuum.indentation.tips import Cone, Sphere, berkovich, parse_tip
+from filmscale.core.errors import InputError
+from filmscale.continuum.indentation.curves import LOAD
+from filmscale.continuum.indentation.oliver_pharr import FAILED
 
 E_R, H = 120e9, 12e9
 
@@ -188,7 +191,7 @@ def test_nix_gao_fit():
 def _hertz_with_drop(noise, seed=3):
     """Hertz loading P = K h^1.5 that loses 30 % of its load at h = 0.5 nm and then rises
     along a softer branch: the shape of an MD pop-in under displacement control."""
-    from filmscale.continuum.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     rng = np.random.default_rng(seed)
     h = np.linspace(-0.1e-9, 0.8e-9, 400)
     K = 40e-9 / (0.5e-9)**1.5
@@ -199,7 +202,7 @@ def _hertz_with_drop(noise, seed=3):
 
 
 def test_load_drop_found_at_the_peak_with_its_size():
-    from filmscale.continuum import detect_load_drop
+    from filmscale.continuum.indentation.spherical import detect_load_drop
     curve, h, P = _hertz_with_drop(noise=0.2e-9)
     drop = detect_load_drop(curve)
     # the last point before the fall is within one depth step (2.3 pm) of 0.5 nm; the drop
@@ -211,8 +214,8 @@ def test_load_drop_found_at_the_peak_with_its_size():
 
 
 def test_no_load_drop_on_noisy_monotonic_loading():
-    from filmscale.continuum import detect_load_drop
-    from filmscale.continuum.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.spherical import detect_load_drop
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     rng = np.random.default_rng(5)
     h = np.linspace(0, 1e-9, 400)
     P = 50e-9 * (h / 1e-9)**1.5 + 0.1e-9 * rng.standard_normal(h.size)
@@ -223,7 +226,7 @@ def test_hertz_fit_stops_at_a_load_drop():
     """Displacement control (MD): the Hertz points end at the load drop. K = 40 nN/0.5^1.5
     nm^1.5 before it (noiseless), so E_r = 3 K / (4 sqrt(R)) to round-off; the points after
     the drop, if used, would pull E_r down by tens of %."""
-    from filmscale.continuum import elastic_limit
+    from filmscale.continuum.indentation.spherical import elastic_limit
     curve, h, P = _hertz_with_drop(noise=0.0)
     K = 40e-9 / (0.5e-9)**1.5
     R = 2e-9
@@ -235,8 +238,8 @@ def test_contact_oscillations_are_not_pop_ins():
     """A particle model's contact oscillation (a 1 % dip early in the loading, the shape of
     the TLSPH ci curve) is a load drop to `detect_load_drop` but not a pop-in to
     `elastic_limit`, which needs 2 % of P_max; a 30 % drop is one."""
-    from filmscale.continuum import detect_load_drop, elastic_limit
-    from filmscale.continuum.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.spherical import detect_load_drop, elastic_limit
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     h = np.linspace(0, 100e-9, 400)
     P = 1e-3 * (h / 100e-9)**1.5
     P = P - 1e-5 * np.exp(-((h - 5e-9) / 1e-9)**2)          # 1 % of P_max

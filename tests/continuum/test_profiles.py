@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.errors import InputError
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, Layer, LayerStack
-from filmscale.continuum.profiles import (StackProfile, TableProfile, UniformProfile, gao_i0,
-                                          gao_i1)
+from filmscale.continuum.contact.profiles import (StackProfile, TableProfile, UniformProfile,
+                                                  gao_i0, gao_i1)
+from filmscale.core.errors import InputError
 
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
 DLC = ElasticPlastic(E=200e9, nu=0.25, sigma_y=8e9, name="DLC")

@@ -8,13 +8,17 @@ import math
 
 import numpy as np
 import pytest
+from filmscale.continuum.indentation.reverse.dao import (dao_forward, dao_reverse,
+                                                         dao_reverse_repeated)
+from filmscale.continuum.indentation.reverse.data import dao2001_table
+from filmscale.continuum.indentation.reverse.dual import dual_reverse
+from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, METHODS, PI1_DAO, PI1_THETA,
+                                                               dao_pi1, representative_strain,
+                                                               sharp_tip)
+from filmscale.continuum.indentation.reverse.surrogate import surrogate_hyperparameters
+from filmscale.continuum.indentation.reverse.validation import cross_validate, fe_error_table
+from filmscale.core.errors import InputError, ModelRangeError
 
-from filmscale.continuum.errors import InputError, ModelRangeError
-from filmscale.continuum.reverse import (DAO_RATIO_RANGE, METHODS, PI1_DAO, PI1_THETA,
-                                         cross_validate, dao2001_table, dao_forward, dao_pi1,
-                                         dao_reverse, dao_reverse_repeated, dual_reverse,
-                                         fe_error_table, representative_strain, sharp_tip,
-                                         surrogate_hyperparameters)
 
 ORACLE = dict(E=70.1e9, nu=0.33, sigma_y=0.5e9, n=0.122, h_m=1e-6)   # physics.md section 10
 

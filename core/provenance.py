@@ -1,13 +1,17 @@
-"""Provenance of results: versions, platform, time and what was asked."""
+"""The one provenance builder: what produced a result, as flat text attributes."""
 
 from __future__ import annotations
+
+from filmscale import __version__
 
 import platform
 import subprocess
 import sys
 from datetime import datetime, timezone
+from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
+
 
 
 def _version(dist: str) -> str:
@@ -17,6 +21,7 @@ def _version(dist: str) -> str:
         return "not installed"
 
 
+@lru_cache(maxsize=1)
 def source_revision() -> str:
     """The git commit of the filmscale source in use, "-dirty" if it has uncommitted changes;
     "not a git checkout" for an installed wheel."""
@@ -35,11 +40,11 @@ def source_revision() -> str:
 
 
 def provenance(**extra) -> dict[str, str]:
-    """Flat string attributes for a result file: package versions, Python, platform, UTC time,
-    plus ``extra`` (the command line, the scene source, ...). LAMMPS is recorded by the runs
-    that use it."""
+    """Flat string attributes for a result file: filmscale's version and source revision,
+    Python, numpy, scipy, h5py, the platform and the UTC time, plus ``extra`` (the command
+    line, the scene, LAMMPS's version and packages, potential checksums, seeds, ...)."""
     info = {
-        "filmscale_version": _version("filmscale"),
+        "filmscale_version": __version__,
         "source_revision": source_revision(),
         "python": sys.version.split()[0],
         "numpy": _version("numpy"),

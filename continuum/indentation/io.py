@@ -10,18 +10,14 @@ HDF5 curves (format ``filmscale.curve/1``): one group per curve with datasets ``
 and ``meta`` (JSON). `write_curve_group` fills a group of a file the caller opened (files are
 created atomically with `atomic_h5`); `read_curves` reads every curve of a file.
 
-Result files are written atomically (`atomic_path`, `atomic_h5`): a temporary file in the same
-folder, renamed when complete, so an interrupted write never leaves a half-written result.
+Files are written atomically with `filmscale.core.files.atomic_h5`.
 """
 
 from __future__ import annotations
 
 import io
 import json
-import os
 import re
-import tempfile
-from contextlib import contextmanager
 from pathlib import Path
 
 import h5py
@@ -29,7 +25,8 @@ import h5py
 import numpy as np
 
 from .curves import LoadDisplacementCurve
-from .errors import InputError
+from filmscale.core.errors import InputError
+from filmscale.core.files import read_text
 
 #: unit -> factor to SI (m, Pa, N, s)
 UNITS = {
@@ -42,37 +39,6 @@ UNITS = {
     "N/m": 1.0, "mN/nm": 1e6, "uN/nm": 1e3, "µN/nm": 1e3, "mN/um": 1e3, "uN/um": 1.0,
     "nm/s": 1e-9,
 }
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-@contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path`` (same suffix) that is renamed to ``path`` when
-    the block ends without error, and removed otherwise."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}",
-                               dir=path.parent)
-    os.close(fd)
-    try:
-        yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())    # mkstemp makes 0600; results are meant to be shared
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
-@contextmanager
-def atomic_h5(path):
-    """Yield an open h5py File that appears at ``path`` only once fully written."""
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
-        yield f
-
 
 _COLUMN = re.compile(r"\s*([^\[\],\s]+)\s*(?:\[([^\]]*)\])?\s*")
 
@@ -94,16 +60,6 @@ def parse_header(line: str) -> list[tuple[str, float]]:
         if pos < len(text) and text[pos] == ",":
             pos += 1
     return out
-
-
-def read_text(path, what: str) -> str:
-    """The UTF-8 text of a file; InputError naming `what` (table, scene, ...) and the file."""
-    try:
-        return Path(path).read_text(encoding="utf-8")
-    except OSError as err:
-        raise InputError(f"cannot read {what} {path}: {err.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{what} {path} is not UTF-8 text") from None
 
 
 def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:

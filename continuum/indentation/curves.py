@@ -21,8 +21,9 @@ from types import MappingProxyType
 import numpy as np
 from scipy.ndimage import convolve1d
 from scipy.signal import savgol_coeffs
+from filmscale.core.checks import check_float_array, check_positive, check_real
+from filmscale.core.errors import InputError
 
-from .errors import InputError, check_float_array, check_positive, check_real
 
 LOAD, HOLD, UNLOAD = 0, 1, 2
 SEGMENT_NAMES = ("load", "hold", "unload")

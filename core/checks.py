@@ -1,10 +1,5 @@
-"""Errors raised by filmscale and the checks that raise them.
-
-`InputError` is bad input: a value outside its valid range, caught before any expensive work
-starts. `ModelRangeError` is a valid input that drives a model outside the range where its
-equations hold (an approach deeper than the sphere radius, say). The command line turns both
-into one line on stderr without a traceback.
-"""
+"""Checks of input values: each returns the value in canonical form or raises `InputError`
+with a message that names the parameter, its value and the valid range."""
 
 from __future__ import annotations
 
@@ -13,13 +8,15 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from .errors import InputError
 
-class InputError(ValueError):
-    """A parameter value outside its valid range; the message names the parameter."""
-
-
-class ModelRangeError(RuntimeError):
-    """Valid inputs that take a model outside the range where its equations hold."""
+#: valid ranges of impact inputs: generous physical bounds that also keep every product of
+#: them finite in double precision (above 1e4 m/s impacts are shock physics, not contact)
+VELOCITY_RANGE = (0.0, 1e4)       # m/s
+RADIUS_RANGE = (1e-12, 1e3)       # m
+MASS_RANGE = (0.0, 1e6)           # kg
+MODULUS_MAX = 1e14                # Pa
+THICKNESS_MAX = 1.0               # m
 
 
 def _fmt(value) -> str:
@@ -52,6 +49,12 @@ def check_real(name: str, value, *, low: float = -math.inf, high: float = math.i
     return x
 
 
+def check_positive(name: str, value, unit: str = "") -> float:
+    """A finite number > 0."""
+    return check_real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True,
+                      unit=unit)
+
+
 def check_float_array(name: str, values, description: str = "numbers") -> np.ndarray:
     """``values`` as a new float array, or InputError naming ``name`` (text and non-numbers
     are refused; shape checks are the caller's)."""
@@ -61,12 +64,6 @@ def check_float_array(name: str, values, description: str = "numbers") -> np.nda
         return np.array(values, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be {description}") from None
-
-
-def check_positive(name: str, value, unit: str = "") -> float:
-    """A finite number > 0."""
-    return check_real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True,
-                      unit=unit)
 
 
 def check_positive_array(name: str, values, unit: str = "", low: float = 0.0,
@@ -88,13 +85,12 @@ def check_positive_array(name: str, values, unit: str = "", low: float = 0.0,
     return arr
 
 
-#: valid ranges of impact inputs: generous physical bounds that also keep every product of
-#: them finite in double precision (above 1e4 m/s impacts are shock physics, not contact)
-VELOCITY_RANGE = (0.0, 1e4)       # m/s
-RADIUS_RANGE = (1e-12, 1e3)       # m
-MASS_RANGE = (0.0, 1e6)           # kg
-MODULUS_MAX = 1e14                # Pa
-THICKNESS_MAX = 1.0               # m
+def check_int(name: str, value, low: int, high: int) -> int:
+    """An integer in [low, high] (an integral float such as 5.0 is accepted)."""
+    x = check_real(name, value, low=low, high=high)
+    if x != int(x):
+        raise InputError(f"{name} = {value!r} must be an integer in [{low}, {high}]")
+    return int(x)
 
 
 def check_choice(name: str, value, choices: Iterable[str]) -> str:
@@ -103,3 +99,29 @@ def check_choice(name: str, value, choices: Iterable[str]) -> str:
     if value not in choices:
         raise InputError(f"{name} = {value!r} is not one of: {', '.join(choices)}")
     return value
+
+
+def check_table(where: str, value) -> dict:
+    """A TOML table (a dict), or InputError naming ``[where]``."""
+    if not isinstance(value, dict):
+        raise InputError(f"[{where}] must be a table, got {type(value).__name__}")
+    return value
+
+
+def check_keys(where: str, table, allowed: Iterable[str]) -> dict:
+    """``table`` (a dict) when every key is in ``allowed``; else InputError naming the first
+    unknown key as ``where.key`` and listing the valid ones."""
+    table = check_table(where, table)
+    allowed = set(allowed)
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise InputError(f"unknown key {where}.{unknown[0]} (valid keys in [{where}]: "
+                         f"{', '.join(sorted(allowed))})")
+    return table
+
+
+def required(where: str, table: dict, key: str):
+    """``table[key]``, or InputError naming ``where.key`` as missing."""
+    if key not in table:
+        raise InputError(f"{where}.{key} is missing")
+    return table[key]

@@ -29,14 +29,15 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, elementwise, minimize_scalar
 
-from .contact_laws import ContactLaw
-from .errors import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, InputError, ModelRangeError,
-                     check_choice, check_positive_array, check_real)
 from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
-from .materials import ElasticPlastic, reduced_modulus
 from .profiles import DepthProfile, profile_for
 from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
 from .restitution import UNLOADING_MODELS, Unloading, unload
+from filmscale.continuum.contact.laws import ContactLaw
+from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
+from filmscale.core.checks import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_choice,
+                                   check_positive_array, check_real)
+from filmscale.core.errors import InputError, ModelRangeError
 
 #: status codes of a fast-path point
 OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE = 0, 1, 2, 3

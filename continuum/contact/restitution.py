@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import check_choice
 from .hertz import hertz_force
+from filmscale.core.checks import check_choice
 
 UNLOADING_MODELS = ("crater", "jackson-chusoipin-green", "brake")
 

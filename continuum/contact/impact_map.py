@@ -10,8 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, check_choice, check_positive, check_real
-from .impact import EXCEEDS_RADIUS, ImpactMaxima, ImpactModel
+from .impact import ImpactMaxima, ImpactModel
+from filmscale.core.checks import check_choice, check_positive, check_real
+from filmscale.core.errors import InputError
+from filmscale.continuum.contact.impact import EXCEEDS_RADIUS
 
 #: the quantities a map shows, with units (the dissertation's Figs. 3.2-3.5 and more)
 MAP_FIELDS = {"delta_max": "m", "mean_pressure_max": "Pa", "force_max": "N",

@@ -37,14 +37,16 @@ from scipy.optimize import least_squares
 from scipy.stats import chi2
 from scipy.stats import f as f_dist
 
-from filmscale.continuum.contact_laws import ContactLaw, contact_law
-from filmscale.continuum.errors import InputError
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
-from filmscale.continuum.reverse import E_I_DAO, NU_I_DAO, dao_forward
 
-from .calibration import (IDENTIFIABLE_RSD, MIN_REL_STD, Calibration, Parameter,
-                          StrengthPoint, _loading_points, _modulus, _sphere_radius,
-                          nix_gao_strengths, sharp_strength_points)
+from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
+from .sharp import MIN_REL_STD, StrengthPoint, nix_gao_strengths, sharp_strength_points
+from .sphere import sphere_radius
+from filmscale.continuum.contact.laws import ContactLaw, contact_law
+from filmscale.continuum.indentation.reverse.dao import dao_forward
+from filmscale.continuum.indentation.spherical import loading_points
+from filmscale.core.errors import InputError
+from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
 
 #: floor of a sphere source's noise in the joint weights (as a fraction of its largest load)
 MIN_NOISE = 1e-4
@@ -77,8 +79,8 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
     compliance = 0.0 if indenter is None else indenter.compliance
     loading, fitted, free = [], [], True
     for c in curves:
-        h, P, pop = _loading_points(c, with_pop_in=True)
-        r = _sphere_radius(c, None)
+        h, P, pop = loading_points(c, with_pop_in=True)
+        r = sphere_radius(c, None)
         loading.append((h, P, r))
         fitted.append((h if pop is None else h[pop + 1:], P if pop is None else P[pop + 1:],
                        r, float(P.max())))
@@ -102,7 +104,7 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
         return misfit(math.exp(own[0]) if free else E_own, sigma_at) / noise
 
     def modulus(own, std_ln):
-        return _modulus(math.exp(own[0]), std_ln, nu, compliance)
+        return modulus_parameter(math.exp(own[0]), std_ln, nu, compliance)
 
     # where its own fit puts sigma_y: the depth weighted by (dF/dsigma_y)^2, the points
     # that decide a constant sigma_y
@@ -128,7 +130,7 @@ def sharp_part(label: str, cal: Calibration, curves, tip: str, E_i: float = E_I_
     d = np.array([p.depth for p in points])
     s = np.array([p.sigma_y for p in points])
     w = 1.0 / np.maximum([p.rel_std for p in points], MIN_REL_STD)
-    loads = [(*_loading_points(c), p.depth) for c, p in zip(curves, points)]
+    loads = [(*loading_points(c), p.depth) for c, p in zip(curves, points)]
 
     def residuals(sigma_at, own):
         return w * np.log(sigma_at(d) / s)

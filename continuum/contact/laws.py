@@ -24,10 +24,11 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .errors import InputError, check_choice, check_real
 from .hertz import first_yield as _hertz_first_yield
 from .hertz import hertz_force, yield_pressure_factor
 from .quadrature import integrate
+from filmscale.core.checks import check_choice, check_real
+from filmscale.core.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,7 @@
+"""``python -m filmscale``: the command line."""
+
+import sys
+
+from filmscale.workflows.cli import main
+
+sys.exit(main())

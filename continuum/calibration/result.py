@@ -1,0 +1,134 @@
+"""What a calibration returns: calibrated parameters with their uncertainty, the layer's
+material, and the cross-scale check of the calibrated forward model against its curves."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from filmscale.continuum.materials import ElasticPlastic, modulus_from_reduced
+from filmscale.core.checks import check_real
+from filmscale.core.errors import InputError
+
+#: relative standard deviation above which a fitted parameter is reported as not identified
+IDENTIFIABLE_RSD = 0.3
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A calibrated value with one standard deviation (NaN when the data do not bound it)."""
+
+    value: float
+    std: float
+    unit: str
+    identified: bool
+    reason: str = ""      #: why not identified, or how the value was fixed
+
+    def text(self) -> str:
+        std = "" if math.isnan(self.std) else f" +- {self.std:.3g}"
+        tag = "" if self.identified else f"  [not identified: {self.reason}]"
+        return f"{self.value:.4g}{std} {self.unit}".rstrip() + tag
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """E, sigma_y and n of one layer, the fit's quality and where they came from."""
+
+    layer: str
+    route: str                      #: "sphere", "sharp" or "joint" (several sources)
+    E: Parameter
+    sigma_y: Parameter
+    n: Parameter
+    nu: float                       #: Poisson ratio assumed (not fitted)
+    uncertainty: str                #: how the standard deviations were obtained
+    rms: float                      #: rms misfit / largest load (sphere) or NaN (sharp)
+    points: int                     #: load points (sphere) or curves (sharp) used
+    sources: tuple[str, ...]
+    model: str                      #: contact law or reverse-analysis method
+    warnings: tuple[str, ...] = ()
+    #: Nix-Gao length of sigma_y (m) when curves at several depths give one; sigma_y is
+    #: then the macroscopic (deep) value
+    h_star: Parameter | None = None
+    #: the source of each fitted curve (joint calibrations; empty: one source)
+    curve_sources: tuple[str, ...] = ()
+    #: each source's own calibration, as dicts with its ``source`` (joint calibrations)
+    components: tuple = ()
+    fitted_curves: tuple = field(default=(), repr=False, compare=False)
+
+    def material(self) -> ElasticPlastic:
+        """The calibrated layer as the continuum package's material. A sigma_y that the
+        data only bound from below enters as that bound: the layer yields no later than
+        the data allow (the conservative side for damage)."""
+        return ElasticPlastic(self.E.value, self.nu, self.sigma_y.value, self.n.value,
+                              self.layer)
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d.pop("fitted_curves")
+        return d
+
+    def cross_check(self, tolerance: float, source: str = "") -> CrossCheck:
+        """The calibrated forward model (the contact law, or Dao's forward C for sharp tips)
+        against every loading point of the curves it was calibrated on (with ``source``:
+        that source's curves of a joint calibration): rms misfit over the largest load of
+        each curve, passed when at most ``tolerance``."""
+        tolerance = check_real("tolerance", tolerance, low=0.0, low_open=True, high=1.0)
+        curves = [c for i, c in enumerate(self.fitted_curves)
+                  if not source or not self.curve_sources or self.curve_sources[i] == source]
+        if not curves:
+            raise InputError(f"calibration of {self.layer} holds no fitted curves"
+                             + (f" of {source}" if source else ""))
+        resid = np.concatenate([(F - P) / P.max() for h, P, F in curves])
+        rms = float(np.sqrt(np.mean(resid**2)))
+        return CrossCheck(self.model, rms, float(np.max(np.abs(resid))), tolerance,
+                          rms <= tolerance, int(resid.size), source)
+
+    def summary(self) -> str:
+        lines = [f"Calibration of {self.layer} ({self.route}: {self.model}; "
+                 f"uncertainty: {self.uncertainty})",
+                 f"  E       = {self.E.text()}",
+                 f"  sigma_y = {self.sigma_y.text()}",
+                 f"  n       = {self.n.text()}",
+                 f"  nu      = {self.nu:g} (assumed)"]
+        if not math.isnan(self.rms):
+            lines.append(f"  fit: rms misfit {self.rms:.2%} of the largest load over "
+                         f"{self.points} points")
+        if self.h_star is not None:
+            lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
+        for c in self.components:
+            lines.append(f"  from {c['source']} ({c['route']}): E {c['E']['value']:.4g} Pa "
+                         f"alone, {c['E_joint']['value']:.4g} Pa in the joint fit; sigma_y "
+                         f"{c['sigma_y']['value']:.4g} Pa alone")
+        lines += [f"  warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class CrossCheck:
+    """A calibrated parameter set run forward against the curves it came from."""
+
+    model: str
+    rms: float            #: rms misfit / largest load
+    worst: float          #: largest |misfit| / largest load
+    tolerance: float
+    passed: bool
+    points: int
+    source: str = ""      #: the source whose curves were checked ("": all)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def text(self) -> str:
+        verdict = "passed" if self.passed else "FAILED"
+        of = f" of {self.source}" if self.source else ""
+        return (f"cross-scale check{of} {verdict}: {self.model} with the calibrated parameters "
+                f"reproduces the curves to {self.rms:.1%} rms (worst point {self.worst:.1%}) "
+                f"of the largest load; tolerance {self.tolerance:.0%}")
+
+
+def modulus_parameter(E_star, std_lnE, nu, compliance) -> Parameter:
+    E = float(modulus_from_reduced(E_star, nu, compliance))
+    dE = E**2 / ((1 - nu**2) * E_star) * std_lnE      # dE/dE* times the std of E*
+    return Parameter(E, float(dE), "Pa", bool(std_lnE < IDENTIFIABLE_RSD))

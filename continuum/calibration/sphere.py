@@ -1,0 +1,245 @@
+"""Constitutive parameters of one layer (E, sigma_y, n) from load-displacement curves.
+
+Three routes, each with an uncertainty and a verdict on what the data can identify:
+
+- `calibrate_sphere`: spherical indentation (MD, particle model or measured). The loading
+  curves of all given tips are fitted together by weighted least squares to the sphere
+  contact law of the continuum package (Hertz below first yield, the elastic-plastic law
+  beyond), unknowns ln E* and ln sigma_y. Uncertainty: the least-squares covariance
+  s^2 (J^T J)^-1 with s^2 the residual variance. sigma_y counts as identified only when the
+  elastic-plastic fit beats Hertz alone by more than the noise (F test at 95 %); otherwise
+  the data give a lower bound (first yield at the deepest point). The contact
+  laws are elastic-perfectly plastic, so n is never identifiable from a sphere.
+- `calibrate_sharp`: Berkovich or 70.3 degree cone curves through the reverse analysis of
+  Dao et al. (2001) (`filmscale.continuum.reverse`): E*, sigma_y and n. One curve:
+  Monte Carlo over the input uncertainties (C from its own least-squares fit, dP/dh and
+  W_p/W_t from the stated relative errors); several curves: the indent-to-indent scatter.
+- `size_effect`: Nix-Gao H(h) = H0 sqrt(1 + h*/h) (Nix & Gao 1998) over curves at several
+  depths or tips, so that nanometre (MD) and micrometre properties are one depth profile.
+
+Units: SI throughout (m, N, Pa).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq, least_squares
+from scipy.stats import f as f_dist
+
+from filmscale.continuum.contact.laws import ContactLaw, contact_law
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.spherical import hertz_fit, loading_points
+from filmscale.continuum.indentation.tips import Sphere, parse_tip
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.core.checks import check_real
+from filmscale.core.errors import InputError
+
+from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
+
+
+def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
+    if R is not None:
+        return check_real("R", R, low=0.0, low_open=True, high=1.0, unit="m")
+    tip = parse_tip(curve.indenter) if curve.indenter else None
+    if not isinstance(tip, Sphere):
+        raise InputError(f"curve {curve.meta.get('source', '')!r} has indenter "
+                         f"{curve.indenter!r}: give R (m) for a spherical calibration")
+    return tip.R
+
+
+def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
+                     law: str | ContactLaw = "komvopoulos-ye-continuous",
+                     indenter: ElasticPlastic | None = None, n: float = 0.0,
+                     split_at_pop_in: bool = True) -> Calibration:
+    """E and sigma_y of a homogeneous layer from spherical loading curves.
+
+    Parameters
+    ----------
+    curves : LoadDisplacementCurve or sequence of them
+        Loading (and optionally unloading) of spherical tips, h = approach (m), P (N).
+    nu : float
+        The layer's Poisson ratio (assumed: a sphere's loading does not separate E and nu).
+    R : float or sequence, optional
+        Tip radius of each curve, m; default from each curve's ``indenter`` (``sphere:...``).
+    law : str or ContactLaw
+        Sphere contact law used as the forward model beyond first yield.
+    indenter : ElasticPlastic, optional
+        An elastic indenter (None: rigid, as the MD and particle tips are).
+    n : float
+        The hardening exponent reported (not identifiable from an elastic-perfectly plastic
+        sphere law); default 0.
+    split_at_pop_in : bool
+        True (default): curves with a pop-in give E* from Hertz before it and sigma_y from
+        the loading after it. False: one joint fit of E* and sigma_y over the whole loading,
+        which trades E* against the elastic overshoot before a pop-in.
+    """
+    curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
+    if not curves:
+        raise InputError("calibrate_sphere needs at least one curve")
+    nu = check_real("nu", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
+    radii = R if isinstance(R, (list, tuple, np.ndarray)) else [R] * len(curves)
+    if len(radii) != len(curves):
+        raise InputError(f"R has {len(radii)} values for {len(curves)} curves")
+    law = contact_law(law) if isinstance(law, str) else law
+    data = []
+    for c, r in zip(curves, radii):
+        h, P, pop = loading_points(c, with_pop_in=True)
+        data.append((h, P, sphere_radius(c, r), float(P.max()), pop))
+    compliance = 0.0 if indenter is None else indenter.compliance
+    sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
+    common = dict(layer=layer, nu=nu, n=Parameter(
+        float(n), math.nan, "", False,
+        f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"), sources=sources,
+        model=law.name)
+    if split_at_pop_in and any(pop is not None for *_, pop in data):
+        return _sphere_past_pop_in(data, law, nu, compliance, common)
+    return _sphere_joint(data, law, nu, compliance, common)
+
+
+def _residuals(data, law, nu, E_star, sigma_y):
+    return np.concatenate([(law.contact(h, r, E_star, sigma_y, nu).force - P) / Pm
+                           for h, P, r, Pm, *_ in data])
+
+
+def _fitted(data, law, nu, E_star, sigma_y):
+    return tuple((h, P, law.contact(h, r, E_star, sigma_y, nu).force)
+                 for h, P, r, Pm, *_ in data)
+
+
+def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
+    """Smooth curves: ln E* and ln sigma_y together, or Hertz alone when that suffices."""
+    # starting point: Hertz on the first third of each curve's load, then yield at the
+    # largest mean pressure divided by the law's hardness factor
+    E0 = np.median([hertz_fit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)),
+                              R=r, P_limit=0.3 * Pm).E_r for h, P, r, Pm, _ in data])
+    pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm, _ in data)
+    sy0 = pm / law.hardness_factor
+
+    def residuals(theta):
+        return _residuals(data, law, nu, *np.exp(theta))
+
+    N = sum(h.size for h, *_ in data)
+    elastic_sy = 1e3 * E0            # so high that nothing yields: the Hertz branch
+
+    def elastic_residuals(lnE):
+        return residuals(np.array([lnE[0], math.log(elastic_sy)]))
+
+    efit = least_squares(elastic_residuals, [math.log(E0)], diff_step=1e-6, xtol=1e-12,
+                         ftol=1e-12)
+    fit = least_squares(residuals, [efit.x[0], math.log(sy0)], diff_step=1e-6, xtol=1e-12,
+                        ftol=1e-12)
+    ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
+    E_star, sigma_y = np.exp(fit.x)
+    reaches_yield = any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu)
+                        for h, _, r, *_ in data)
+    # sigma_y counts as seen when the elastic-plastic fit beats Hertz alone by more than
+    # noise: F test of the extra parameter at 95 % (F(1, N - 2) above its 0.95 quantile)
+    F = (ssr_el - ssr) / max(ssr / max(N - 2, 1), 1e-300)
+    yielded = reaches_yield and F > f_dist.ppf(0.95, 1, max(N - 2, 1))
+    warnings = []
+    if yielded:
+        cov = ssr / max(N - 2, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
+        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        delta_y = max(_yield_approach(law, r, E_star, sigma_y, nu) for _, _, r, *_ in data)
+        if max(h.max() for h, *_ in data) < 3 * delta_y:
+            warnings.append(f"the deepest point is under 3 x the first-yield approach "
+                            f"({delta_y:.3g} m): sigma_y rests on the early elastic-plastic "
+                            "range")
+        sigma_param = _yield_parameter(sigma_y, std_lnS)
+    else:
+        # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
+        # (first yield exactly at the deepest point)
+        ssr = ssr_el
+        E_star = float(np.exp(efit.x[0]))
+        std_lnE = math.sqrt(ssr / max(N - 1, 1) / float((efit.jac.T @ efit.jac)[0, 0]))
+        sigma_param = _lower_bound(data, law, E_star, nu)
+        warnings.append(f"sigma_y not identified: {sigma_param.reason}")
+    return Calibration(
+        route="sphere", E=modulus_parameter(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        uncertainty="least-squares covariance s^2 (J^T J)^-1",
+        rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings),
+        fitted_curves=_fitted(data, law, nu, E_star,
+                              sigma_y if yielded else elastic_sy), **common)
+
+
+def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
+    """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading before
+    the first pop-in, then sigma_y with E* fixed on the loading after it. The contact law
+    has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
+    sigma_y adds the propagated std of E* to its own (conditional) one."""
+    # stage 1: P = E* x with x = 4/3 sqrt(R) h^1.5, each curve weighted by 1/P_max
+    pre = [(h[:pop + 1], P[:pop + 1], r, Pm) for h, P, r, Pm, pop in data if pop is not None]
+    x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
+    y = np.concatenate([P / Pm for h, P, r, Pm in pre])
+    if x.size < 3:
+        raise InputError(f"only {x.size} loading points before the pop-in: a Hertz fit of "
+                         "E needs at least 3")
+    E_star = float(x @ y / (x @ x))
+    r1 = y - E_star * x
+    std_lnE = math.sqrt(float(r1 @ r1) / max(x.size - 1, 1) / float(x @ x)) / E_star
+    # stage 2: the rest of each curve (all of a curve without a pop-in)
+    post = [(h[pop + 1:] if pop is not None else h, P[pop + 1:] if pop is not None else P,
+             r, Pm) for h, P, r, Pm, pop in data]
+    post = [d for d in post if d[0].size]
+    N2 = sum(h.size for h, *_ in post)
+    warnings = [f"pop-in at {Pm_pop:.3g} N, {h_pop:.3g} m: E from the {x.size} Hertz points "
+                "before it, sigma_y from the loading after it"
+                for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
+                                      if pop is not None)]
+    sigma_param = None
+    if N2 >= 2:
+        sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor
+        def residuals(ln_sy, ln_E=math.log(E_star)):
+            return _residuals(post, law, nu, math.exp(ln_E), math.exp(ln_sy[0]))
+        fit = least_squares(residuals, [math.log(sy0)], diff_step=1e-6, xtol=1e-12,
+                            ftol=1e-12)
+        sigma_y = float(np.exp(fit.x[0]))
+        if any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu) for h, _, r, _ in post):
+            ssr2 = float(fit.fun @ fit.fun)
+            J_S = fit.jac[:, 0]
+            eps = 1e-4
+            J_E = (residuals(fit.x, math.log(E_star) + eps)
+                   - residuals(fit.x, math.log(E_star) - eps)) / (2 * eps)
+            var_cond = ssr2 / max(N2 - 1, 1) / float(J_S @ J_S)
+            sens = -float(J_S @ J_E) / float(J_S @ J_S)     # d ln sigma_y / d ln E*
+            sigma_param = _yield_parameter(sigma_y, math.sqrt(var_cond
+                                                              + (sens * std_lnE)**2))
+    if sigma_param is None:
+        sigma_param = _lower_bound(post or pre, law, E_star, nu)
+        warnings.append(f"sigma_y not identified: {sigma_param.reason}")
+    fitted = _fitted(data, law, nu, E_star, sigma_param.value)
+    resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
+    return Calibration(
+        route="sphere", E=modulus_parameter(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
+                    "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
+        rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
+        warnings=tuple(warnings), fitted_curves=fitted, **common)
+
+
+def _yield_parameter(sigma_y, std_lnS) -> Parameter:
+    ok = bool(std_lnS < IDENTIFIABLE_RSD)
+    return Parameter(float(sigma_y), float(sigma_y * std_lnS), "Pa", ok,
+                     "" if ok else f"relative uncertainty {std_lnS:.0%} above "
+                                   f"{IDENTIFIABLE_RSD:.0%}")
+
+
+def _lower_bound(data, law, E_star, nu) -> Parameter:
+    value = min(_yield_lower_bound(law, h.max(), r, E_star, nu) for h, _, r, *_ in data)
+    return Parameter(value, math.nan, "Pa", False,
+                     "no curve passes first yield beyond noise; the value is a lower bound")
+
+
+def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:
+    """The approach of first yield, m."""
+    return float(law.first_yield(R, E_star, sigma_y, nu).approach)
+
+
+def _yield_lower_bound(law: ContactLaw, delta_max, R, E_star, nu) -> float:
+    """The sigma_y at which first yield falls exactly at the deepest point: any larger
+    sigma_y leaves the whole curve elastic (root in ln sigma_y, bracketed by 1e-6 E* and E*)."""
+    def gap(ln_sy):
+        return _yield_approach(law, R, E_star, math.exp(ln_sy), nu) - delta_max
+    return math.exp(brentq(gap, math.log(1e-6 * E_star), math.log(E_star), xtol=1e-12))

@@ -55,7 +55,7 @@ def main(argv=None) -> int:
               f"{cal.h_star.value / tj.H_STAR - 1:+.2%} | {cal.E.value / tj.E - 1:+.2%} | "
               f"{cal.h_star.identified} | {rms[0]:.2%} / {rms[1]:.2%} | {wall:.3f} |")
     if args.md_unit:
-        from filmscale.workflows.pipeline import unit_curve
+        from filmscale.workflows.units import unit_curve
         md = unit_curve(args.md_unit)
         cu = [synthetic_sharp_curve(120e9, 0.34, 0.2e9 * np.sqrt(1 + 1.6e-6 / d), 0.3, d)[1]
               for d in (0.5e-6, 1e-6, 2e-6, 5e-6)]

@@ -90,7 +90,7 @@ def modulus_from_reduced(E_r, nu, counterface_compliance=0.0):
         return np.where(rest > 0, (1.0 - np.asarray(nu) ** 2) / rest, np.nan)
 
 
-#: Diamond indenter, the usual nanoindentation counterface (physics.md section 9).
+#: Diamond indenter, the usual nanoindentation counterface (docs/physics.md section 9).
 DIAMOND = ElasticPlastic(E=1141e9, nu=0.07, name="diamond")
 
 

@@ -23,7 +23,7 @@ from filmscale.core.noise import noise_sigma
 #: Agreement between the Hertzian segment and E* of the potential's Hill-averaged elastic
 #: constants: an anisotropic crystal under a few-nm sphere departs from isotropic Hertz by
 #: the elastic anisotropy (Cu: Zener ratio 3.2) and the discreteness of the contact; 15 %
-#: is the bound reported for such runs (lammps.md: Cu on Cu 0.95, Cu film on Ni 1.14-1.17).
+#: is the bound reported for such runs (docs/lammps.md: Cu on Cu 0.95, Cu film on Ni 1.14-1.17).
 HERTZ_TOLERANCE = 0.15
 
 
@@ -106,10 +106,14 @@ def _contact_at_end_of_hold(run: IndentRun):
     R = spec.indenter.radius
     box = spec.slab_built.box
     gap = spec.protocol.gap
-    analysis = ContactAnalysis(
-        read_dumps(dumps).atoms, radius=R, center_xy=(box[0] / 2, box[1] / 2),
-        center_z=lambda step: float(s.tip_height(step, run.z_surface, gap)) + R,
-        surface_z=run.z_surface).run()
+    universe = read_dumps(dumps)
+    try:
+        analysis = ContactAnalysis(
+            universe.atoms, radius=R, center_xy=(box[0] / 2, box[1] / 2),
+            center_z=lambda step: float(s.tip_height(step, run.z_surface, gap)) + R,
+            surface_z=run.z_surface).run()
+    finally:
+        universe.trajectory.close()     # the dump file stays open otherwise
     return analysis.results
 
 

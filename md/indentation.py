@@ -29,7 +29,7 @@ from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
 
 #: fix indent force constant, 10 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
-#: sqrt(F/K) = 0.32 A inside the nominal sphere (lammps.md measured protocols use it).
+#: sqrt(F/K) = 0.32 A inside the nominal sphere (docs/lammps.md measured protocols use it).
 DEFAULT_K = float(to_si(10.0, "indent_constant"))
 SEED_MAX = 900_000_000       #: LAMMPS random seeds are integers in [1, 900000000]
 

@@ -19,13 +19,17 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
-from filmscale.md.particles import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, ParticleImpactSpec,
-                                    ParticleIndentSpec, estimated_steps, input_text)
+from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD,
+                                          estimated_steps, input_text)
+from filmscale.md.particles import ParticleImpactSpec, ParticleIndentSpec
 from filmscale.md.units import to_si
 from filmscale.continuum.contact.hertz import elastic_impact, hertz_force
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
+from filmscale.core.errors import InputError
+from filmscale.core.files import write_json
+from filmscale.core.jsonable import to_jsonable
 
 STATE_FILE = "state.json"
 #: The unloading load below which the contact counts as open: 1 % of the peak load.
@@ -92,12 +96,6 @@ class ParticleRun:
                   "run_dir": str(self.run_dir)})
 
 
-def _write_json(path: Path, data: dict):
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(data, indent=2, default=str))
-    tmp.replace(path)
-
-
 def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path | str,
                   engine: EngineOptions = EngineOptions(), *,
                   progress: Callable[[int, int], None] | None = None,
@@ -119,15 +117,18 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
     if state.get("finished") and (run_dir / name).exists() \
             and (run_dir / name).read_text() == text:
         return read_particles(spec, run_dir)
-    if state.get("spec") not in (None, spec.to_dict()):
-        raise LammpsError("the run directory holds a run of a different spec; choose another "
-                          "directory", run_dir)
+    # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null;
+    # an elastic material's sigma_y is infinite)
+    spec_dict = to_jsonable(spec.to_dict())
+    if state.get("spec") is not None and to_jsonable(state["spec"]) != spec_dict:
+        raise InputError("the run directory holds a run of a different spec; choose another "
+                         f"directory (run directory {run_dir})")
     for old in [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / "finished.txt"]:
         old.unlink(missing_ok=True)
     (run_dir / name).write_text(text)
-    state = {"spec": spec.to_dict(), "input": name, "finished": False,
+    state = {"spec": spec_dict, "input": name, "finished": False,
              "engine": engine.to_dict()}
-    _write_json(state_path, state)
+    write_json(state_path, state)
     total = estimated_steps(spec)
     report = (lambda step: progress(step, total)) if progress is not None else None
     started = time.perf_counter()
@@ -136,7 +137,7 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
         raise LammpsError("LAMMPS stopped before the end of the run (no finished.txt); see "
                           f"log.{name}", run_dir)
     state.update(finished=True, wall_time=time.perf_counter() - started)
-    _write_json(state_path, state)
+    write_json(state_path, state)
     return read_particles(spec, run_dir)
 
 
@@ -315,14 +316,13 @@ def write_particle_record(run: ParticleRun, result: IndentResult | ImpactOutcome
     versions and packages, the command) as root attributes."""
     from filmscale.continuum.indentation.io import write_curve_group
     from filmscale.core.files import atomic_h5
-    from filmscale import __version__
+    from filmscale.core.provenance import provenance as base_provenance
     from filmscale.md.engine import lammps_info
 
     path = Path(path) if path is not None else run.run_dir / RECORD_NAME
     state = json.loads((run.run_dir / STATE_FILE).read_text())
-    info = {"filmscale_version": __version__, **lammps_info(),
-            "engine": json.dumps(state.get("engine", {})),
-            **{k: str(v) for k, v in (provenance or {}).items()}}
+    info = base_provenance(**{**lammps_info(), "engine": json.dumps(state.get("engine", {})),
+                              **(provenance or {})})
     with atomic_h5(path) as f:
         f.attrs["format"] = RECORD_FORMAT
         f.attrs["kind"] = "impact" if isinstance(run.spec, ParticleImpactSpec) else "indent"

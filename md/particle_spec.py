@@ -44,6 +44,7 @@ from pathlib import Path
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
                                     ParticleIndentSpec, ParticleMaterial, ParticleTarget)
+from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
 
 _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
@@ -53,7 +54,7 @@ _R = 1e-6
 def hertz_mass(depth: float, velocity: float, material: dict, R: float = _R) -> float:
     """Mass (kg) of a rigid sphere of radius R (m) whose elastic Hertz impact at ``velocity``
     (m/s) reaches the approach ``depth`` (m) on ``material`` (E, nu in Pa): the inverse of
-    delta_max = (15 m V^2 / (16 E* R^(1/2)))^(2/5) (physics.md section 1)."""
+    delta_max = (15 m V^2 / (16 E* R^(1/2)))^(2/5) (docs/physics.md section 1)."""
     E_star = material["E"] / (1 - material["nu"]**2)
     return depth**2.5 * 16 * E_star * math.sqrt(R) / (15 * velocity**2)
 
@@ -102,69 +103,48 @@ PERI_GRIDS = {
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n", "density"}
 
 
-def _table(where: str, value) -> dict:
-    if not isinstance(value, dict):
-        raise InputError(f"[{where}] must be a table, got {value!r}")
-    return value
-
-
-def _check_keys(where: str, table: dict, allowed: set[str]):
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise InputError(f"[{where}] has unknown keys {unknown}; allowed: {sorted(allowed)}")
-
-
 def _material(where: str, table: dict) -> ParticleMaterial:
-    table = _table(where, table)
-    _check_keys(where, table, _MATERIAL_KEYS | ({"thickness"} if "films" in where else set()))
+    table = check_keys(where, table,
+                       _MATERIAL_KEYS | ({"thickness"} if "films" in where else set()))
     for key in ("E", "nu"):
         if key not in table:
-            raise InputError(f"[{where}] needs {key}")
+            raise InputError(f"{where}.{key} is missing: a material needs E (Pa) and nu")
     mat = ElasticPlastic(table["E"], table["nu"], table.get("sigma_y", math.inf),
                          table.get("n", 0.0), table.get("name", where))
     return ParticleMaterial(mat, table.get("density", 2700.0))
 
 
 def _target(table: dict) -> ParticleTarget:
-    table = _table("target", table)
-    _check_keys("target", table, {"substrate", "films"})
-    if "substrate" not in table:
-        raise InputError("[target] needs a [target.substrate] table")
+    table = check_keys("target", table, {"substrate", "films"})
+    substrate = required("target", table, "substrate")
     films = []
     for k, film in enumerate(table.get("films", [])):
-        film = _table(f"target.films[{k}]", film)
-        if "thickness" not in film:
-            raise InputError(f"[target.films[{k}]] needs thickness (m)")
-        films.append((film["thickness"], _material(f"target.films[{k}]", film)))
-    return ParticleTarget(_material("target.substrate", table["substrate"]), tuple(films))
+        where = f"target.films[{k}]"
+        thickness = required(where, check_table(where, film), "thickness")
+        films.append((thickness, _material(where, film)))
+    return ParticleTarget(_material("target.substrate", substrate), tuple(films))
 
 
 def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImpactSpec:
     """A spec from a parsed TOML table; ``kind`` is ``indent`` or ``impact``."""
-    data = _table("spec", data)
     section = "loading" if kind == "indent" else "impact"
-    _check_keys("spec", data, {"name", "method", "tip", "target", "grid", section})
+    data = check_keys("spec", data, {"name", "method", "tip", "target", "grid", section})
     for key in ("target", "grid", section):
-        if key not in data:
-            raise InputError(f"the {kind} spec needs a [{key}] table")
-    grid = _table("grid", data["grid"])
-    _check_keys("grid", grid, {"spacing", "width", "depth", "quarter"})
-    try:
-        grid = Grid(**grid)
-    except TypeError as exc:
-        raise InputError(f"[grid] needs spacing, width and depth (m): {exc}") from None
+        required("spec", data, key)
+    grid = check_keys("grid", data["grid"], {"spacing", "width", "depth", "quarter"})
+    for key in ("spacing", "width", "depth"):
+        required("grid", grid, key)
+    grid = Grid(**grid)
     common = dict(name=str(data.get("name", kind)), method=data.get("method", "tlsph"),
                   target=_target(data["target"]), tip=data.get("tip", "sphere:1um"), grid=grid)
-    body = _table(section, data[section])
     if kind == "indent":
-        _check_keys("loading", body, {"depth", "speed", "hold_time", "frames"})
-        try:
-            return ParticleIndentSpec(loading=IndentLoading(**body), **common)
-        except TypeError as exc:
-            raise InputError(f"[loading] needs depth (m) and speed (m/s): {exc}") from None
-    _check_keys("impact", body, {"mass", "velocity", "duration", "frames"})
-    if "mass" not in body or "velocity" not in body:
-        raise InputError("[impact] needs mass (kg) and velocity (m/s)")
+        body = check_keys("loading", data[section], {"depth", "speed", "hold_time", "frames"})
+        for key in ("depth", "speed"):
+            required("loading", body, key)
+        return ParticleIndentSpec(loading=IndentLoading(**body), **common)
+    body = check_keys("impact", data[section], {"mass", "velocity", "duration", "frames"})
+    for key in ("mass", "velocity"):
+        required("impact", body, key)
     return ParticleImpactSpec(**common, **body)
 
 

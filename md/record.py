@@ -3,12 +3,7 @@ elastic constants, the inputs and the provenance, written atomically."""
 
 from __future__ import annotations
 
-from filmscale import __version__
-
-
 import json
-import platform
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +14,7 @@ from filmscale.md.engine import lammps_info
 from filmscale.md.run import IndentRun
 from filmscale.continuum.indentation.io import read_curve_group, write_curve_group
 from filmscale.core.files import atomic_h5
+from filmscale.core.provenance import provenance as base_provenance
 
 RECORD_FORMAT = "filmscale.md_indent/1"
 RECORD_NAME = "indent.h5"
@@ -31,19 +27,22 @@ def _attrs(group, values: dict):
         group.attrs[key] = value if isinstance(value, (int, float, str)) else json.dumps(value)
 
 
-def run_provenance(run: IndentRun, extra: dict | None = None) -> dict[str, str]:
-    """Versions (filmscale, LAMMPS and its packages, Python), potential and its checksum,
-    master and derived seeds, engine options."""
-    info = {"filmscale_version": __version__, "python": sys.version.split()[0],
-            "platform": platform.platform(), **lammps_info(),
-            "potential": run.spec.potential.name,
-            "potential_file": run.spec.potential.file,
-            "potential_sha256": run.spec.potential.sha256,
-            "potential_citation": run.spec.potential.citation,
-            "master_seed": str(run.spec.protocol.seed),
-            "derived_seeds": json.dumps([p["seeds"] for p in run.parts]),
-            "engine": json.dumps(run.engine)}
-    info.update({k: str(v) for k, v in (extra or {}).items()})
+def run_provenance(run: IndentRun, extra: dict | None = None) -> dict[str, str | None]:
+    """`filmscale.core.provenance.provenance` (filmscale, Python, numpy, scipy, h5py,
+    platform, time, source revision) with LAMMPS's version and packages, the potential and
+    its checksum, master and derived seeds, engine options, and ``extra``."""
+    md = {**lammps_info(),
+          "potential": run.spec.potential.name,
+          "potential_file": run.spec.potential.file,
+          "potential_sha256": run.spec.potential.sha256,
+          "potential_citation": run.spec.potential.citation,
+          "master_seed": run.spec.protocol.seed,
+          "derived_seeds": json.dumps([p["seeds"] for p in run.parts]),
+          "engine": json.dumps(run.engine)}
+    md.update({k: str(v) for k, v in (extra or {}).items()})
+    info = base_provenance(**{k: v for k, v in md.items() if v is not None})
+    # a potential without a file or citation: None, which `write_record` leaves out
+    info.update({k: None for k, v in md.items() if v is None})
     return info
 
 

@@ -10,9 +10,6 @@ curve keeps, for every step, the row of the latest part that reached it.
 
 from __future__ import annotations
 
-from filmscale import __version__
-
-
 import json
 import re
 import time
@@ -23,12 +20,15 @@ from pathlib import Path
 import numpy as np
 from ase.io import write as ase_write
 
+from filmscale import __version__
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
                                       derive_seeds, indentation_input, resume_input)
 from filmscale.md.units import to_si
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.core.files import atomic_path
+from filmscale.core.errors import InputError
+from filmscale.core.files import write_json
+from filmscale.core.jsonable import to_jsonable
 
 STATE_FILE = "state.json"
 _RESTART = re.compile(r"^restart\.(\d+)\.bin$")
@@ -61,15 +61,15 @@ class IndentRun:
         return {p["input"]: (self.run_dir / p["input"]).read_text() for p in self.parts}
 
 
-def _write_json(path: Path, data: dict):
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(json.dumps(data, indent=2))
-
-
 def _restarts(run_dir: Path) -> list[tuple[int, Path]]:
     found = [(int(m.group(1)), p) for p in run_dir.iterdir()
              if (m := _RESTART.match(p.name))]
     return sorted(found, reverse=True)
+
+
+def _spec_dict(spec: IndentSpec) -> dict:
+    """The spec as its JSON files hold it (objects without a JSON form as text)."""
+    return to_jsonable(json.loads(json.dumps(spec.to_dict(), default=str)))
 
 
 def _fresh(spec: IndentSpec, run_dir: Path) -> dict:
@@ -77,7 +77,7 @@ def _fresh(spec: IndentSpec, run_dir: Path) -> dict:
               specorder=list(spec.type_elements), masses=True, units="metal",
               atom_style="atomic")
     (run_dir / "in.indent").write_text(indentation_input(spec, version=__version__))
-    (run_dir / "spec.json").write_text(json.dumps(spec.to_dict(), indent=2, default=str))
+    write_json(run_dir / "spec.json", _spec_dict(spec))
     seeds = derive_seeds(spec.protocol.seed, ("velocity", "langevin"))
     return {"input": "in.indent", "record": "indent.dat", "start": 0, "seeds": seeds}
 
@@ -103,11 +103,12 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "dumps").mkdir(exist_ok=True)
     state_path = run_dir / STATE_FILE
-    spec_dict = json.loads(json.dumps(spec.to_dict(), default=str))
+    spec_dict = _spec_dict(spec)
     state = json.loads(state_path.read_text()) if state_path.exists() else None
-    if state is not None and state.get("spec") != spec_dict:
-        raise LammpsError("the run directory holds a run of a different spec; choose another "
-                          "directory", run_dir)
+    # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null)
+    if state is not None and to_jsonable(state.get("spec")) != spec_dict:
+        raise InputError("the run directory holds a run of a different spec; choose another "
+                         f"directory (run directory {run_dir})")
     total = spec.protocol.schedule().s_end
     report = (lambda step: progress(step, total)) if progress is not None else None
 
@@ -120,7 +121,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
             step, restart = restarts[0]
             state["parts"].append(_resume_part(spec, run_dir, len(state["parts"]), step,
                                                restart))
-        _write_json(state_path, state)
+        write_json(state_path, state)
         part = state["parts"][-1]
         started = time.perf_counter()
         try:
@@ -131,12 +132,12 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
                 # a restart file cut short by the interruption: set it aside, use the previous
                 (run_dir / part["restart"]).rename(run_dir / f"{part['restart']}.unreadable")
                 state["parts"].pop()
-                _write_json(state_path, state)
+                write_json(state_path, state)
                 continue
             raise
         part["wall_time"] = time.perf_counter() - started
         state["finished"] = True
-        _write_json(state_path, state)
+        write_json(state_path, state)
         for _, restart in _restarts(run_dir):    # a finished run needs no checkpoints
             restart.unlink()
     return read_run(spec, run_dir)

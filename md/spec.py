@@ -36,6 +36,7 @@ from filmscale.md.indentation import (ConeIndenter, IndentProtocol, IndentSpec,
                                       SphereIndenter)
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
+from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.potentials.registry import potential_from_mapping
 
@@ -78,26 +79,10 @@ PRESETS: dict[str, dict] = {
 }
 
 
-def _table(where: str, value) -> dict:
-    if not isinstance(value, dict):
-        raise InputError(f"{where} must be a table, got {value!r}")
-    return value
-
-
-def _check_keys(where: str, table: dict, allowed: set[str]):
-    unknown = set(table) - allowed
-    if unknown:
-        raise InputError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; allowed: "
-                         f"{', '.join(sorted(allowed))}")
-
-
 def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
-    table = _table(where, table)
-    _check_keys(where, table, {"element", "structure", "a", "c", "thickness"})
-    for key in ("element", "thickness"):
-        if key not in table:
-            raise InputError(f"{where}.{key} is required")
-    element = table["element"]
+    table = check_keys(where, table, {"element", "structure", "a", "c", "thickness"})
+    element = required(where, table, "element")
+    required(where, table, "thickness")
     hint = potential.lattice.get(element)
     structure = table.get("structure", hint[0] if hint else None)
     a = table.get("a", hint[1] if hint else None)
@@ -109,41 +94,34 @@ def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
 
 def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
     """An `IndentSpec` from a TOML-like mapping (see the module docstring)."""
-    data = _table("spec", data)
-    _check_keys("spec", data, {"name", "potential", "slab", "indenter", "protocol"})
+    data = check_keys("spec", data, {"name", "potential", "slab", "indenter", "protocol"})
     for key in ("name", "potential", "slab", "indenter", "protocol"):
-        if key not in data:
-            raise InputError(f"spec: [{key}] is required" if key != "name" else
-                             "spec: name is required")
-    potential = potential_from_mapping(_table("potential", data["potential"]), base_dir)
-    slab = dict(_table("slab", data["slab"]))
+        required("spec", data, key)
+    potential = potential_from_mapping(check_table("potential", data["potential"]), base_dir)
+    slab = dict(check_table("slab", data["slab"]))
     films = slab.pop("films", [])
     if not isinstance(films, list):
         raise InputError("slab.films must be an array of tables ([[slab.films]])")
-    if "substrate" not in slab:
-        raise InputError("slab.substrate is required")
-    substrate = _crystal("slab.substrate", slab.pop("substrate"), potential)
-    _check_keys("slab", slab, {"orientation", "lateral_size", "fixed_thickness",
-                               "thermostat_thickness", "vacuum"})
+    substrate = _crystal("slab.substrate", required("slab", slab, "substrate"), potential)
+    del slab["substrate"]
+    check_keys("slab", slab, {"orientation", "lateral_size", "fixed_thickness",
+                              "thermostat_thickness", "vacuum", "films", "substrate"})
     layers = tuple(_crystal(f"slab.films[{i}]", f, potential) for i, f in enumerate(films))
     slab_spec = SlabSpec(films=layers, substrate=substrate, **slab)
-    indenter = dict(_table("indenter", data["indenter"]))
+    indenter = dict(check_table("indenter", data["indenter"]))
     shape = indenter.pop("shape", "sphere")
     if shape == "sphere":
-        _check_keys("indenter", indenter, {"radius", "K"})
-        if "radius" not in indenter:
-            raise InputError("indenter.radius is required for a sphere")
+        check_keys("indenter", indenter, {"shape", "radius", "K"})
+        required("indenter", indenter, "radius")
         tip = SphereIndenter(**indenter)
     elif shape == "cone":
-        _check_keys("indenter", indenter, {"half_angle", "tip_radius", "K", "height"})
+        check_keys("indenter", indenter, {"shape", "half_angle", "tip_radius", "K", "height"})
         tip = ConeIndenter(**indenter)
     else:
         raise InputError(f"indenter.shape = {shape!r} must be sphere or cone")
-    protocol = dict(_table("protocol", data["protocol"]))
-    allowed = set(IndentProtocol.__dataclass_fields__)
-    _check_keys("protocol", protocol, allowed)
-    if "depth" not in protocol:
-        raise InputError("protocol.depth is required")
+    protocol = dict(check_table("protocol", data["protocol"]))
+    check_keys("protocol", protocol, set(IndentProtocol.__dataclass_fields__))
+    required("protocol", protocol, "depth")
     try:
         proto = IndentProtocol(**protocol)
     except TypeError as exc:

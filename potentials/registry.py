@@ -27,6 +27,8 @@ from functools import cache
 from pathlib import Path
 from types import MappingProxyType
 
+from filmscale.core.errors import InputError
+
 ANGSTROM = 1e-10    # m
 MAX_CUTOFF = 5e-9   # m; beyond any short-range potential's cutoff
 MAX_LATTICE = 2e-9  # m; beyond any elemental lattice constant
@@ -44,7 +46,7 @@ _RACY_NS = 2_000_000_000
 _digests: dict[tuple[str, int, int], str] = {}
 
 
-class PotentialError(ValueError):
+class PotentialError(InputError):
     """Bad potential input: an unknown name, an element the potential lacks, a missing file;
     the message names the parameter, its value and the valid choices."""
 

@@ -1,4 +1,4 @@
-"""The import direction of architecture.md: workflows -> md -> potentials; continuum is pure."""
+"""The import direction of docs/architecture.md: workflows -> md -> potentials; continuum is pure."""
 
 import subprocess
 import sys

@@ -1,1 +1,38 @@
-"""filmscale.workflows: scene files, the `filmscale` command line, result store and plots."""
+"""filmscale.workflows: orchestration of the scales, and the `filmscale` command line.
+
+Scene files (`scene`), the planner (`plan`), the unit store (`units`), the pipeline that runs a
+scene (`pipeline`), result files (`result`), the HTML report and figure (`report`), plots
+(`plots`) and batch indentation analysis (`indent`). The public names below are imported on
+first use, so that the command line starts without loading matplotlib or LAMMPS.
+"""
+
+from importlib import import_module
+
+#: public name -> the module that defines it
+_WHERE = {
+    "Scene": "scene", "load_scene": "scene", "parse_scene": "scene",
+    "PipelineScene": "scene", "load_pipeline": "scene", "parse_pipeline": "scene",
+    "Plan": "plan", "plan_scene": "plan", "plan_impact": "plan",
+    "run_scene": "pipeline", "SceneResult": "pipeline",
+    "write_scene_result": "result", "write_impact_maps": "result",
+    "read_impact_maps": "result", "write_indentation_results": "result",
+    "read_indentation_results": "result",
+    "write_report": "report", "write_figure": "report",
+    "plot_impact_maps": "plots", "plot_history": "plots",
+    "analyze_files": "indent", "AnalysisOptions": "indent",
+    "main": "cli",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name not in _WHERE:
+        raise AttributeError(f"module 'filmscale.workflows' has no attribute {name!r}")
+    value = getattr(import_module(f"filmscale.workflows.{_WHERE[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

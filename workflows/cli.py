@@ -8,7 +8,7 @@ LAMMPS run that stopped with an error (its message and run directory).
 from __future__ import annotations
 
 import argparse
-import json
+import os
 import math
 import sys
 import time
@@ -16,17 +16,17 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import impact_map
-from filmscale.md.engine import LammpsError, LammpsUnavailable
-from filmscale.potentials import PotentialError
 
 from .scene import MapSpec, Scene, load_scene
 from filmscale.continuum.contact.impact_map import MAP_FIELDS
-from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
-from filmscale.core.errors import InputError, ModelRangeError
-from filmscale.core.files import atomic_path
 
 from . import md_cli, particles_cli, pipeline_cli
+from filmscale.continuum.contact.impact_map import impact_map
+from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
+from filmscale import __version__
+from filmscale.core.errors import FilmscaleError, InputError
+from filmscale.core.files import atomic_path
+from filmscale.core.jsonable import dumps
 
 
 def _range_arg(text: str) -> tuple[float, float, int]:
@@ -73,19 +73,6 @@ def _extreme(reduce, values) -> float:
     return float(reduce(finite)) if finite.size else math.nan
 
 
-def _json(obj) -> str:
-    """JSON with NaN and infinities as null (valid JSON for any reader)."""
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        return value
-    return json.dumps(clean(obj), allow_nan=False)
-
-
 def _history_csv(history, path: Path) -> None:
     columns = ("time [s]", "delta [m]", "velocity [m/s]", "force [N]", "contact_radius [m]",
                "mean_pressure [Pa]", "phase", "branch")
@@ -123,7 +110,7 @@ def cmd_impact(args) -> int:
     else:
         result = model.maxima(V, R, m).result(())
     if args.json:
-        print(_json(result.to_dict()))
+        print(dumps(result.to_dict()))
     else:
         print(result.summary())
     return 0
@@ -158,7 +145,7 @@ def cmd_impact_map(args) -> int:
     elapsed = time.perf_counter() - start
 
     from filmscale.core.provenance import provenance
-    from .store import write_impact_maps
+    from .result import write_impact_maps
     out = write_impact_maps(args.out, maps, {k: m.describe() for k, m in models.items()},
                             provenance(command=" ".join(sys.argv), scene_source=scene.source),
                             scene.text)
@@ -175,7 +162,7 @@ def cmd_impact_map(args) -> int:
                              for f in MAP_FIELDS if f != "restitution"})
         summary[key]["restitution_min"] = _extreme(np.min, mp.field("restitution"))
     if args.json:
-        print(_json(summary))
+        print(dumps(summary))
     else:
         print(f"wrote {out}" + (f" and {args.plot}" if args.plot else "")
               + f": {summary['points']} points per target in {elapsed:.2f} s")
@@ -267,7 +254,7 @@ def cmd_indent_analyze(args) -> int:
 
     if args.json:
         for r in records:
-            print(_json(r))
+            print(dumps(r))
     else:
         print(f"{'curve':<28} {'E_r [GPa]':>10} {'H [GPa]':>9} {'h_c [nm]':>9} "
               f"{'S [N/m]':>10}  flags")
@@ -292,7 +279,7 @@ def cmd_indent_analyze(args) -> int:
 
     if args.out:
         from filmscale.core.provenance import provenance
-        from .store import write_indentation_results
+        from .result import write_indentation_results
         profile_data = None
         if profile is not None:
             profile_data = profile.to_dict()
@@ -335,7 +322,7 @@ def cmd_indent_reverse(args) -> int:
     else:
         result = dao_reverse(args.C, args.dPdh, args.WpWt, args.hm, **common)
     if args.json:
-        print(_json(result.to_dict()))
+        print(dumps(result.to_dict()))
     else:
         print(result.summary())
     for warning in result.warnings:
@@ -347,6 +334,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="filmscale",
         description="Multiscale contact, indentation and impact analysis of thin films.")
+    parser.add_argument("--version", action="version", version=f"filmscale {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("impact", help="one normal impact of the scene's sphere",
@@ -454,19 +442,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    """The command line: returns the exit status (0 done, 2 bad input, 1 a model or engine
+    failure, 130 interrupted); every failure is one line on stderr, never a traceback."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (InputError, PotentialError) as err:
-        print(f"filmscale: error: {err}", file=sys.stderr)
-        return 2
-    except (LammpsError, LammpsUnavailable) as err:
-        print(f"filmscale: {err}", file=sys.stderr)
-        return 1
-    except ModelRangeError as err:
-        print(f"filmscale: {err}", file=sys.stderr)
-        return 1
+    except FilmscaleError as err:
+        kind = "error: " if isinstance(err, InputError) else ""
+        print(f"filmscale: {kind}{err}", file=sys.stderr)
+        return err.exit_code
     except OSError as err:          # writing results: full disk, permissions, ...
         print(f"filmscale: error: cannot write {err.filename or ''}: {err.strerror or err}",
               file=sys.stderr)
@@ -474,6 +459,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("filmscale: interrupted; nothing half-written was kept", file=sys.stderr)
         return 130
+    except Exception as err:        # a defect of filmscale: one line, the traceback on request
+        if os.environ.get("FILMSCALE_DEBUG"):
+            raise
+        print(f"filmscale: internal error ({type(err).__name__}: {err}); rerun with "
+              "FILMSCALE_DEBUG=1 for the traceback and please report it", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -7,15 +7,15 @@ resumed by running the same command again with the same ``--out``.
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
 from filmscale.potentials import registry
+from filmscale.potentials.registry import get_potential, verify_all
 from filmscale.core.errors import InputError
 from filmscale.core.provenance import provenance
-from filmscale.potentials.registry import get_potential, verify_all
+from filmscale.core.jsonable import dumps
 
 
 
@@ -72,8 +72,7 @@ def cmd_md_indent(args) -> int:
                   "pile_up": analysis.pile_up, "n_atoms": run.n_atoms,
                   "n_steps": run.n_steps, "wall_time": run.wall_time,
                   "result": str(record)}
-        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-                          for k, v in result.items()}, allow_nan=False))
+        print(dumps(result))
     else:
         print(elastic.summary())
         print(analysis.summary())

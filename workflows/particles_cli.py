@@ -6,12 +6,11 @@ and one line. The run shows a progress bar on a terminal; ``--json`` prints one 
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 from pathlib import Path
 from filmscale.core.errors import InputError
 from filmscale.core.provenance import provenance
+from filmscale.core.jsonable import dumps
 
 
 
@@ -25,16 +24,11 @@ def _spec(args):
     return load_spec(args.spec, args.kind, args.method)
 
 
-def _clean(result: dict) -> dict:
-    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-            for k, v in result.items()}
-
-
 def cmd_particles(args) -> int:
     from filmscale.md.engine import EngineOptions
     from filmscale.md.particle_run import (analyze_impact, analyze_indent, run_particles,
                                            write_particle_record)
-    from filmscale.md.particles import estimated_steps
+    from filmscale.md.particle_inputs import estimated_steps
 
     spec = _spec(args)
     engine = EngineOptions(np=args.np, omp_threads=1)
@@ -64,7 +58,7 @@ def cmd_particles(args) -> int:
         if args.kind == "impact":
             d["h_max"] = d["delta_max"]
         d["result"] = str(record)
-        print(json.dumps(_clean(d), allow_nan=False))
+        print(dumps(d))
     else:
         print(result.summary())
         print(f"record: {record}")

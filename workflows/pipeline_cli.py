@@ -7,13 +7,15 @@ from pathlib import Path
 
 
 def cmd_plan(args) -> int:
-    from .pipeline import load_pipeline, plan_scene
+    from .plan import plan_scene
+    from .scene import load_pipeline
     print(plan_scene(load_pipeline(args.scene)).text())
     return 0
 
 
 def cmd_run(args) -> int:
-    from .pipeline import load_pipeline, run_scene
+    from .pipeline import run_scene
+    from .scene import load_pipeline
     scene = Path(args.scene)
     pipeline = load_pipeline(scene)             # every input checked before any run
     out = Path(args.out) if args.out else Path("results") / f"{scene.stem}.h5"

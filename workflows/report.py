@@ -13,9 +13,9 @@ from pathlib import Path
 import h5py
 
 
-from .pipeline import RESULT_FORMAT
 from .plots import plt
 from filmscale.continuum.calibration.result import CrossCheck
+from filmscale.workflows.result import RESULT_FORMAT
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
 
@@ -123,6 +123,13 @@ def write_figure(result, out) -> Path:
     return out
 
 
+def _number(value, fmt: str, unit: str = "") -> str:
+    """A number of a result file's JSON (where null stands for NaN) for a table cell."""
+    if value is None or value != value:
+        return "-"
+    return f"{value:{fmt}}{unit}"
+
+
 def _table(rows, header) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
     body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
@@ -142,7 +149,7 @@ def write_report(result, out=None) -> Path:
                  f"{html.escape(f.attrs['created_utc'])}</p>",
                  "<h2>Plan</h2>",
                  _table([(s["name"], s["model"], s["reason"], s["error"],
-                          f"{s['cost_s']:.3g} s") for s in plan["steps"]],
+                          _number(s["cost_s"], ".3g", " s")) for s in plan["steps"]],
                         ("step", "model", "why", "error", "cost"))]
         if len(f["calibration"]):
             parts.append("<h2>Calibrated layers</h2>")
@@ -150,14 +157,14 @@ def write_report(result, out=None) -> Path:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
             rows = [(name, f"{cal[name]['value']:.4g}",
-                     f"{cal[name]['std']:.3g}" if cal[name]["std"] == cal[name]["std"]
-                     else "-", cal[name]["unit"],
+                     _number(cal[name]["std"], ".3g"), cal[name]["unit"],
                      "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
                     for name in ("E", "sigma_y", "n", "h_star") if cal.get(name)]
             parts += [f"<h3>{html.escape(cal['layer'])}</h3>",
                       f"<p>{html.escape(cal['model'])}; uncertainty: "
                       f"{html.escape(cal['uncertainty'])}; rms misfit "
-                      f"{cal['rms']:.2%} of the largest load over {cal['points']} points</p>",
+                      f"{_number(cal['rms'], '.2%')} of the largest load over "
+                      f"{cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
                       *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
                       _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}")]

@@ -7,9 +7,11 @@ the key's full path, its value and the valid range. See docs/scenes.md for every
 
 from __future__ import annotations
 
+import copy
+import functools
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +27,7 @@ from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKN
                                    VELOCITY_RANGE, check_choice, check_positive, check_real)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_text
+from filmscale.core.checks import check_keys, required
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -39,22 +42,6 @@ _SECTIONS = {
 _TOP = {"impactor", "target", "model", "map", "title", "description"}
 
 
-def _check_keys(where: str, table, allowed: set[str]) -> dict:
-    if not isinstance(table, dict):
-        raise InputError(f"[{where}] must be a table, got {type(table).__name__}")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise InputError(f"unknown key {where}.{unknown[0]} (valid keys in [{where}]: "
-                         f"{', '.join(sorted(allowed))})")
-    return table
-
-
-def _required(where: str, table: dict, key: str):
-    if key not in table:
-        raise InputError(f"{where}.{key} is missing")
-    return table[key]
-
-
 def _h_star(where: str, table: dict) -> float:
     """The Nix-Gao length of a layer (m): its sigma_y becomes sigma_y sqrt(1 + h*/delta)."""
     return check_real(f"{where}.h_star", table.get("h_star", 0.0), low=0.0, high=1e-3,
@@ -62,13 +49,13 @@ def _h_star(where: str, table: dict) -> float:
 
 
 def _material(where: str, table: dict, require_yield: bool = True) -> ElasticPlastic:
-    _check_keys(where, table, _MATERIAL_KEYS)
-    E = check_real(f"{where}.E", _required(where, table, "E"), low=0.0, low_open=True,
+    check_keys(where, table, _MATERIAL_KEYS)
+    E = check_real(f"{where}.E", required(where, table, "E"), low=0.0, low_open=True,
                    high=MODULUS_MAX, unit="Pa")
-    nu = check_real(f"{where}.nu", _required(where, table, "nu"), low=-1.0, high=0.5,
+    nu = check_real(f"{where}.nu", required(where, table, "nu"), low=-1.0, high=0.5,
                     low_open=True, high_open=True)
     if require_yield:
-        sigma_y = check_positive(f"{where}.sigma_y", _required(where, table, "sigma_y"), "Pa")
+        sigma_y = check_positive(f"{where}.sigma_y", required(where, table, "sigma_y"), "Pa")
     else:
         sigma_y = math.inf
     n = check_real(f"{where}.n", table.get("n", 0.0), low=0.0, high=1.0, high_open=True)
@@ -148,13 +135,13 @@ class Scene:
 
 
 def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> TableProfile:
-    _check_keys("target.profile", table, _SECTIONS["target.profile"])
+    check_keys("target.profile", table, _SECTIONS["target.profile"])
     if "file" in table:
         if any(k in table for k in ("h_c", "E_r", "H")):
             raise InputError("target.profile takes either file or h_c/E_r/H arrays, not both")
         columns = read_table(base / str(table["file"]), required=("h_c", "E_r", "H"))
     else:
-        columns = {k: _numbers(f"target.profile.{k}", _required("target.profile", table, k))
+        columns = {k: _numbers(f"target.profile.{k}", required("target.profile", table, k))
                    for k in ("h_c", "E_r", "H")}
     breakpoints = table.get("breakpoints", "layers")
     if breakpoints == "layers":
@@ -204,9 +191,9 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                     base: Path | None = None) -> Scene:
     """Validate a scene already read from TOML (``text`` is kept for provenance)."""
     base = Path(".") if base is None else base
-    _check_keys("scene", data, _TOP)
+    check_keys("scene", data, _TOP)
 
-    imp = _check_keys("impactor", _required("scene", data, "impactor"), _SECTIONS["impactor"])
+    imp = check_keys("impactor", required("scene", data, "impactor"), _SECTIONS["impactor"])
     check_choice("impactor.shape", imp.get("shape", "sphere"), ("sphere",))
     if ("E" in imp) != ("nu" in imp):
         raise InputError("impactor.E and impactor.nu go together: give both for an elastic "
@@ -217,7 +204,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                                  require_yield=False)
 
     def ranged(key, bounds, unit):
-        return check_real(f"impactor.{key}", _required("impactor", imp, key), low=bounds[0],
+        return check_real(f"impactor.{key}", required("impactor", imp, key), low=bounds[0],
                           high=bounds[1], low_open=True, unit=unit)
 
     impactor = Impactor(
@@ -225,8 +212,8 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         velocity=ranged("velocity", VELOCITY_RANGE, "m/s"),
         material=imp_material, name=str(imp.get("name", "impactor")))
 
-    target = _check_keys("target", _required("scene", data, "target"), _SECTIONS["target"])
-    raw_sub = _check_keys("target.substrate", _required("target", target, "substrate"),
+    target = check_keys("target", required("scene", data, "target"), _SECTIONS["target"])
+    raw_sub = check_keys("target.substrate", required("target", target, "substrate"),
                           _SECTIONS["target.substrate"])
     substrate = _material("target.substrate",
                           {k: v for k, v in raw_sub.items() if k != "h_star"})
@@ -236,8 +223,8 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     layers, h_star = [], []
     for i, raw in enumerate(raw_layers):
         where = f"target.layers[{i}]"
-        _check_keys(where, raw, _SECTIONS["target.layers"])
-        thickness = check_real(f"{where}.thickness", _required(where, raw, "thickness"),
+        check_keys(where, raw, _SECTIONS["target.layers"])
+        thickness = check_real(f"{where}.thickness", required(where, raw, "thickness"),
                                low=0.0, low_open=True, high=THICKNESS_MAX, unit="m")
         mat = _material(where, {k: v for k, v in raw.items()
                                 if k not in ("thickness", "h_star")})
@@ -246,7 +233,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     stack = LayerStack(tuple(layers), substrate)
     h_star.append(_h_star("target.substrate", raw_sub))
 
-    model = _check_keys("model", data.get("model", {}), _SECTIONS["model"])
+    model = check_keys("model", data.get("model", {}), _SECTIONS["model"])
     law_name = check_choice("model.contact_law", model.get("contact_law", "komvopoulos-ye"),
                             LAW_NAMES)
     options = {}
@@ -268,7 +255,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
             raise InputError("h_star (the Nix-Gao size effect of a layer) does not apply to a "
                              "measured target.profile, which holds its depth dependence")
 
-    mp = _check_keys("map", data.get("map", {}), _SECTIONS["map"])
+    mp = check_keys("map", data.get("map", {}), _SECTIONS["map"])
     map_spec = MapSpec(
         velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
         radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
@@ -283,3 +270,193 @@ def load_scene(path) -> Scene:
     """Read and validate a scene file."""
     path = Path(path)
     return parse_scene(read_text(path, "scene"), source=str(path), base=path.parent)
+
+
+
+OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
+
+
+@functools.lru_cache(maxsize=None)
+def _md_spec(md: str, base: Path):
+    from filmscale.md.spec import PRESETS, load_spec, preset
+    return preset(md) if md in PRESETS else load_spec(base / md)
+
+
+@functools.lru_cache(maxsize=None)
+def _particle_spec(name: str, base: Path):
+    from filmscale.md.particle_spec import PRESETS, load_spec, preset
+    return preset(name, "indent") if name in PRESETS["indent"] else \
+        load_spec(base / name, "indent")
+
+
+SOURCE_KINDS = ("md", "particles", "curves")
+
+
+#: default tolerance of the cross-scale check: rms misfit of the calibrated forward model
+#: over the calibration curves, as a fraction of the largest load
+CROSS_CHECK_TOLERANCE = 0.1
+
+
+@dataclass(frozen=True)
+class CalibrationSource:
+    """Where a layer's E and sigma_y come from: an MD indentation (preset or spec file), a
+    particle-model indentation (preset or spec file), or curve files (measured)."""
+
+    layer: int
+    name: str
+    kind: str                    #: one of SOURCE_KINDS
+    source: tuple[str, ...]      #: the preset or spec file, or the curve files
+    np: int = 1
+    tip: str = ""                #: indenter of curve files that do not name one
+    tolerance: float = CROSS_CHECK_TOLERANCE
+
+    @property
+    def label(self) -> str:
+        """The source as results name it: ``md:quick``, ``curves:a.csv,b.h5``."""
+        return f"{self.kind}:{','.join(self.source)}"
+
+    def spec(self, base: Path):
+        """The run's spec (None for curve files)."""
+        if self.kind == "md":
+            return _md_spec(self.source[0], Path(base).resolve())
+        if self.kind == "particles":
+            return _particle_spec(self.source[0], Path(base).resolve())
+        return None
+
+    def curves(self, base: Path) -> list:
+        """The curves of curve files, each with its indenter (``tip`` where unnamed)."""
+        from filmscale.continuum.indentation.io import read_curves
+        out = []
+        for name in self.source:
+            for key, c in read_curves(Path(base) / name).items():
+                if not c.indenter:
+                    if not self.tip:
+                        raise InputError(f"target.layers[{self.layer}].calibrate: curve "
+                                         f"{key!r} of {name} names no indenter; give tip "
+                                         "(e.g. \"sphere:5um\" or \"berkovich\")")
+                    c = replace(c, indenter=self.tip)
+                out.append(c)
+        return out
+
+
+@dataclass(frozen=True)
+class PipelineScene:
+    """A parsed pipeline scene: the impact scene's data (layers to calibrate lack E and
+    sigma_y until `completed`), the calibration sources and the outputs wanted."""
+
+    data: dict
+    text: str
+    source: str
+    base: Path
+    calibrations: tuple[CalibrationSource, ...]
+    outputs: frozenset
+    tolerance: float
+    friction: float
+    angle: float
+
+    def completed(self, materials: dict[int, ElasticPlastic],
+                  h_star: dict[int, float] | None = None) -> Scene:
+        """The impact scene with each calibrated layer's E and sigma_y (and the Nix-Gao
+        length h*, where calibrated) filled in."""
+        return scene_from_data(filled_data(self.data, materials, h_star), self.text, self.source,
+                               self.base)
+
+
+def filled_data(data: dict, materials: dict[int, ElasticPlastic],
+            h_star: dict[int, float] | None) -> dict:
+    data = copy.deepcopy(data)
+    for k, mat in materials.items():
+        layer = data["target"]["layers"][k]
+        layer.setdefault("E", mat.E)
+        layer.setdefault("sigma_y", mat.sigma_y)
+    for k, h in (h_star or {}).items():
+        data["target"]["layers"][k].setdefault("h_star", h)
+    return data
+
+
+def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
+    """One ``calibrate`` table, checked."""
+    allowed = set(SOURCE_KINDS) | {"np", "tip", "tolerance"}
+    kinds = [key for key in SOURCE_KINDS if isinstance(cal, dict) and key in cal]
+    if not isinstance(cal, dict) or set(cal) - allowed or len(kinds) != 1:
+        raise InputError(f"{where} takes exactly one of md (an MD preset or spec file), "
+                         "particles (a particle-model preset or spec file) or curves (a "
+                         f"list of curve files), and np, tip, tolerance; got {cal!r} (one "
+                         "layer takes several sources as [[target.layers.calibrate]] tables)")
+    kind = kinds[0]
+    np_ = cal.get("np", 1)
+    if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
+        raise InputError(f"{where}.np = {np_!r} must be an integer in [1, 4096]")
+    given = cal[kind]
+    files = given if kind == "curves" else [given]
+    if not isinstance(files, list) or not files or \
+            not all(isinstance(f, str) for f in files):
+        raise InputError(f"{where}.{kind} = {given!r} must be "
+                         + ("a non-empty list of file names" if kind == "curves"
+                            else "a preset name or a spec file name"))
+    tip = cal.get("tip", "")
+    if tip:
+        from filmscale.continuum.indentation.tips import parse_tip
+        parse_tip(tip)
+    tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
+                     low=1e-4, high=1.0)
+    return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol)
+
+
+def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
+                   ) -> PipelineScene:
+    """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
+    base = Path(".") if base is None else base
+    data = read_toml(text, source)
+    outputs = data.pop("outputs", {})
+    if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
+        raise InputError("[outputs] takes want (a list) and tolerance; got "
+                         f"{sorted(outputs) if isinstance(outputs, dict) else outputs!r}")
+    want = outputs.get("want", ["maxima"])
+    if not isinstance(want, list) or not want:
+        raise InputError(f"outputs.want must be a list from {', '.join(OUTPUTS)}; got {want!r}")
+    for i, w in enumerate(want):
+        check_choice(f"outputs.want[{i}]", w, OUTPUTS)
+    tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=1e-6,
+                           high=0.5)
+    imp = data.get("impactor", {})
+    friction = check_real("impactor.friction", imp.pop("friction", 0.0), low=0.0, high=10.0)
+    angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
+                       high_open=True, unit="degrees")
+    sources = []
+    layers = data.get("target", {}).get("layers", [])
+    for k, layer in enumerate(layers if isinstance(layers, list) else []):
+        if not isinstance(layer, dict) or "calibrate" not in layer:
+            continue
+        cal = layer.pop("calibrate")
+        tables = cal if isinstance(cal, list) and cal else [cal]
+        given = "E" in layer and "sigma_y" in layer     # given properties win (rule 1)
+        for j, table in enumerate(tables):
+            where = f"target.layers[{k}].calibrate" + (f"[{j}]" if isinstance(cal, list)
+                                                       else "")
+            src = _calibration_source(table, where, k, str(layer.get("name", f"layer {k}")))
+            if given:
+                continue
+            if src.kind == "curves":
+                src.curves(base)    # readable, each with an indenter, before any work
+            else:
+                src.spec(base)      # the spec's own checks, before any work
+            sources.append(src)
+    pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
+                             tolerance, friction, angle)
+    placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in sources}
+    pipeline.completed(placeholder)     # every other key checked now
+    return pipeline
+
+
+def load_pipeline(path) -> PipelineScene:
+    path = Path(path)
+    return parse_pipeline(read_text(path, "scene"), str(path), path.parent)
+
+
+def layer_sources(pipeline: PipelineScene) -> dict[int, list[CalibrationSource]]:
+    """The calibration sources of each layer to calibrate, in scene order."""
+    by_layer: dict[int, list[CalibrationSource]] = {}
+    for src in pipeline.calibrations:
+        by_layer.setdefault(src.layer, []).append(src)
+    return by_layer

@@ -16,6 +16,11 @@ from filmscale.core.errors import InputError
 IDENTIFIABLE_RSD = 0.3
 
 
+def _float(x) -> float:
+    """A number read back from JSON, where NaN and infinities are written as null."""
+    return math.nan if x is None else float(x)
+
+
 @dataclass(frozen=True)
 class Parameter:
     """A calibrated value with one standard deviation (NaN when the data do not bound it)."""
@@ -25,6 +30,11 @@ class Parameter:
     unit: str
     identified: bool
     reason: str = ""      #: why not identified, or how the value was fixed
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Parameter:
+        """The parameter `dataclasses.asdict` gave, read back (JSON nulls become NaN)."""
+        return cls(**{**d, "value": _float(d["value"]), "std": _float(d["std"])})
 
     def text(self) -> str:
         std = "" if math.isnan(self.std) else f" +- {self.std:.3g}"
@@ -68,6 +78,18 @@ class Calibration:
         d = asdict(self)
         d.pop("fitted_curves")
         return d
+
+    @classmethod
+    def from_dict(cls, d: dict, fitted_curves=()) -> Calibration:
+        """The calibration `to_dict` gave, read back (JSON nulls become NaN)."""
+        d = dict(d)
+        for key in ("E", "sigma_y", "n", "h_star"):
+            if d.get(key) is not None:
+                d[key] = Parameter.from_dict(d[key])
+        for key in ("sources", "warnings", "curve_sources", "components"):
+            d[key] = tuple(d.get(key, ()))
+        d["rms"] = _float(d["rms"])
+        return cls(**d, fitted_curves=tuple(fitted_curves))
 
     def cross_check(self, tolerance: float, source: str = "") -> CrossCheck:
         """The calibrated forward model (the contact law, or Dao's forward C for sharp tips)

@@ -10,14 +10,14 @@ This sub-package imports nothing of `indentation` or `calibration`.
 
 from filmscale.continuum.contact.hertz import (elastic_impact, elastic_impact_time, first_yield,
                                                yield_velocity)
-from filmscale.continuum.contact.impact import (ImpactHistory, ImpactMaxima, ImpactModel,
-                                                ImpactResult, solve_impact)
+from filmscale.continuum.contact.impact import ImpactModel, solve_impact
 from filmscale.continuum.contact.impact_map import MAP_FIELDS, ImpactMap, impact_map
 from filmscale.continuum.contact.laws import (LAW_NAMES, ContactLaw, Hertz, JacksonGreen,
                                               KogutEtsion, KomvopoulosYe, Thornton, contact_law)
 from filmscale.continuum.contact.profiles import (DepthProfile, StackProfile, TableProfile,
                                                   UniformProfile)
 from filmscale.continuum.contact.restitution import UNLOADING_MODELS, thornton_restitution
+from filmscale.continuum.contact.results import ImpactHistory, ImpactMaxima, ImpactResult
 
 __all__ = [
     "contact_law", "LAW_NAMES", "ContactLaw", "Hertz", "KomvopoulosYe", "KogutEtsion",

@@ -3,7 +3,7 @@
 These are reference solutions: the impact solvers are tested against them. All functions take
 SI values (m, N, Pa, kg, m/s) and broadcast over numpy arrays.
 
-Sources: Johnson, Contact Mechanics (1985), sections 4.2 and 11.4; physics.md sections 1-2.
+Sources: Johnson, Contact Mechanics (1985), sections 4.2 and 11.4; docs/physics.md sections 1-2.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def elastic_impact_time(delta, delta_max, V):
     return (np.asarray(delta) / V) * hyp2f1(0.5, 0.4, 1.4, x)
 
 
-# --- first yield (physics.md section 2) ------------------------------------------------------
+# --- first yield (docs/physics.md section 2) ------------------------------------------------------
 
 def yield_pressure_factor(nu):
     """C(nu) = p0 / sigma_Y at first yield under a sphere: 1.295 exp(0.736 nu).
@@ -92,7 +92,7 @@ class FirstYield:
 
 def first_yield(R, E_star, sigma_y, nu) -> FirstYield:
     """delta_Y = (pi C sigma_Y / (2E*))^2 R, a_Y = pi C sigma_Y R / (2E*),
-    P_Y = (pi^3/6) (C sigma_Y)^3 R^2 / E*^2 (physics.md section 2)."""
+    P_Y = (pi^3/6) (C sigma_Y)^3 R^2 / E*^2 (docs/physics.md section 2)."""
     p0 = yield_pressure_factor(nu) * sigma_y
     a_y = np.pi * p0 * R / (2.0 * E_star)
     return FirstYield(approach=a_y**2 / R, contact_radius=a_y,

@@ -23,7 +23,7 @@ import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import nullcontext
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -38,153 +38,17 @@ from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_choice,
                                    check_positive_array, check_real)
 from filmscale.core.errors import InputError, ModelRangeError
+from filmscale.continuum.contact.results import (ImpactHistory, ImpactMaxima, ImpactResult,
+                                                 STATUS_MESSAGES)
+from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT,
+                                                 UNLOADING_OUT_OF_RANGE, exceeds_radius_message)
 
-#: status codes of a fast-path point
-OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE = 0, 1, 2, 3
-STATUS_MESSAGES = {
-    OK: "ok",
-    EXCEEDS_RADIUS: "the approach would exceed the sphere radius R, where the contact laws "
-                    "stop holding: not computed",
-    UNLOADING_INCONSISTENT: "the unloading model returns more energy than the loading took "
-                            "(elastic recovery above the approach or e_y > 1): an artefact of "
-                            "a contact law that jumps at its yield point",
-    UNLOADING_OUT_OF_RANGE: "the residual-depth fit leaves no elastic recovery this far past "
-                            "yield (jackson-chusoipin-green beyond delta_max/delta_Y ~ 1e4): "
-                            "loading maxima computed, unloading results not",
-}
 
 _GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
 _TIME_OCTAVES = 8      # loading-time pieces: delta_max x (1, 3/4, 1/2, ..., 2^-8), then to 0
 _SCAN_PER_OCTAVE = 4   # severity scan for breakpoints in depth-dependent targets
 _T_BOUND = 1e6        # integration limit in units of delta_ref / V (events end it earlier)
 _BLOCK = 1024         # fast-path points solved together
-
-
-@dataclass(frozen=True)
-class ImpactResult:
-    """One impact; SI units. ``status``/``message`` say whether it holds (see STATUS_MESSAGES)."""
-
-    velocity: float             #: V, incident normal velocity, m/s
-    radius: float               #: R, m
-    mass: float                 #: m, kg
-    delta_max: float            #: maximum approach, m
-    force_max: float            #: largest contact force, N
-    mean_pressure_max: float    #: largest mean contact pressure P/A, Pa
-    contact_radius_max: float   #: largest contact radius, m
-    contact_time: float         #: duration of contact, s
-    loading_time: float         #: contact to maximum approach, s
-    unloading_time: float       #: maximum approach to separation, s
-    residual_depth: float       #: depth of the crater left behind, m
-    restitution: float          #: e_y = rebound speed / V
-    rebound_velocity: float     #: m/s
-    yielded: bool               #: the law's first-yield threshold was reached
-    regime: str                 #: regime at maximum approach
-    yield_approach: float       #: approach at first yield, m (inf if never reached before R)
-    yield_velocity: float       #: impact speed that just reaches first yield, m/s
-    contact_law: str
-    unloading: str
-    path: str                   #: "energy-quadrature" or "time-integration"
-    status: int = OK
-    message: str = "ok"
-    warnings: tuple[str, ...] = ()
-
-    def to_dict(self) -> dict:
-        d = asdict(self)
-        d["warnings"] = list(self.warnings)
-        return d
-
-    def summary(self) -> str:
-        lines = [
-            f"Impact of a sphere R = {self.radius:.4g} m, m = {self.mass:.4g} kg at "
-            f"V = {self.velocity:.4g} m/s ({self.contact_law}, unloading: {self.unloading}, "
-            f"{self.path})",
-            f"  maximum approach      {self.delta_max:.6g} m",
-            f"  maximum force         {self.force_max:.6g} N",
-            f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
-            f"  maximum contact radius {self.contact_radius_max:.6g} m",
-            f"  contact time          {self.contact_time:.6g} s "
-            f"(loading {self.loading_time:.4g} s, unloading {self.unloading_time:.4g} s)",
-            f"  residual depth        {self.residual_depth:.6g} m",
-            f"  restitution e_y       {self.restitution:.6f}",
-            f"  regime reached        {self.regime} "
-            f"({'yielded' if self.yielded else 'no yield'}; first yield at "
-            f"V_Y = {self.yield_velocity:.4g} m/s)",
-        ]
-        if self.status != OK:
-            lines.append(f"  status: {self.message}")
-        lines += [f"  warning: {w}" for w in self.warnings]
-        return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class ImpactMaxima:
-    """Fast-path results over arrays of (V, R, m); every field has the broadcast shape.
-
-    Points with ``status == EXCEEDS_RADIUS`` hold NaN (regime -1).
-    """
-
-    velocity: np.ndarray
-    radius: np.ndarray
-    mass: np.ndarray
-    delta_max: np.ndarray
-    force_max: np.ndarray
-    mean_pressure_max: np.ndarray
-    contact_radius_max: np.ndarray
-    contact_time: np.ndarray
-    loading_time: np.ndarray
-    unloading_time: np.ndarray
-    residual_depth: np.ndarray
-    restitution: np.ndarray
-    rebound_velocity: np.ndarray
-    yielded: np.ndarray
-    regime: np.ndarray          #: branch index into ``regime_names``
-    yield_approach: np.ndarray
-    yield_velocity: np.ndarray
-    status: np.ndarray
-    regime_names: tuple[str, ...]
-    contact_law: str
-    unloading: str
-    warnings: tuple[str, ...] = ()
-
-    #: fields holding arrays of floats in SI, with their units
-    UNITS = {"velocity": "m/s", "radius": "m", "mass": "kg", "delta_max": "m",
-             "force_max": "N", "mean_pressure_max": "Pa", "contact_radius_max": "m",
-             "contact_time": "s", "loading_time": "s", "unloading_time": "s",
-             "residual_depth": "m", "restitution": "1", "rebound_velocity": "m/s",
-             "yield_approach": "m", "yield_velocity": "m/s"}
-
-    def result(self, index=()) -> ImpactResult:
-        """The single impact at ``index``; raises ModelRangeError if it was not computed."""
-        status = int(self.status[index])
-        if status == EXCEEDS_RADIUS:
-            raise ModelRangeError(_exceeds_radius(self.velocity[index], self.radius[index],
-                                                  self.mass[index]))
-        values = {k: float(getattr(self, k)[index]) for k in self.UNITS}
-        return ImpactResult(**values, yielded=bool(self.yielded[index]),
-                            regime=self.regime_names[int(self.regime[index])],
-                            contact_law=self.contact_law, unloading=self.unloading,
-                            path="energy-quadrature", status=status,
-                            message=STATUS_MESSAGES[status], warnings=self.warnings)
-
-
-@dataclass(frozen=True)
-class ImpactHistory:
-    """Time-integrated impact: the maxima plus sampled histories (SI units).
-
-    ``phase`` is 0 before contact, 1 loading, 2 unloading; ``branch`` the law's regime index.
-    """
-
-    result: ImpactResult
-    time: np.ndarray            #: s
-    delta: np.ndarray           #: approach, m (negative before contact)
-    velocity: np.ndarray        #: d(delta)/dt, m/s
-    force: np.ndarray           #: N
-    contact_radius: np.ndarray  #: m
-    mean_pressure: np.ndarray   #: Pa
-    branch: np.ndarray
-    phase: np.ndarray
-    events: dict = field(default_factory=dict)  #: event name -> time, s
-    nfev: int = 0               #: contact-force evaluations by the integrator
 
 
 @dataclass(frozen=True)
@@ -346,8 +210,9 @@ class ImpactModel:
             active = active[~done]
             if active.size == 0:
                 return x
-        raise RuntimeError(f"maximum approach did not converge at {active.size} points, e.g. "
-                           f"R = {R[active[0]]:.6g} m, energy = {energy[active[0]]:.6g} J")
+        raise ModelRangeError(f"maximum approach did not converge at {active.size} points, "
+                              f"e.g. R = {R[active[0]]:.6g} m, energy = "
+                              f"{energy[active[0]]:.6g} J")
 
     def maxima(self, velocity, radius, mass, progress=None) -> ImpactMaxima:
         """Maxima of the impacts at every broadcast (V, R, m) by energy quadrature.
@@ -634,7 +499,8 @@ class ImpactModel:
             sol = solve_ivp(rhs_loading(branch), (t0, t0 + _T_BOUND), y0, events=evs, **options)
             hit = [k for k, te in enumerate(sol.t_events) if te.size]
             if not hit or sol.status < 0:
-                raise RuntimeError(f"time integration stopped without an event: {sol.message}")
+                raise ModelRangeError("time integration stopped without an event: "
+                                      f"{sol.message}")
             i = min(hit, key=lambda k: sol.t_events[k][0])
             t_end, y_end = sol.t_events[i][0], sol.y_events[i][0].copy()
             if i == 0 and branch < len(thr):
@@ -651,7 +517,7 @@ class ImpactModel:
             if i == 0:
                 break
             if i == 1:
-                raise ModelRangeError(_exceeds_radius(V, R, m))
+                raise ModelRangeError(exceeds_radius_message(V, R, m))
             left_limits.append((y0[0] * d_ref, branch))
             events[f"regime {law.regime_names[branch + 1]}"] = t0 * t_ref
             branch += 1
@@ -773,11 +639,6 @@ def _impact_status(elastic, beyond_fit, residual, d_max, e_y, e_tol):
         bad = (residual < -1e-12 * d_max) | (e_y > 1.0 + e_tol)
     return np.select([elastic, beyond_fit, bad],
                      [OK, UNLOADING_OUT_OF_RANGE, UNLOADING_INCONSISTENT], OK)
-
-
-def _exceeds_radius(V, R, m) -> str:
-    return (f"approach exceeds the sphere radius at V = {V:.6g} m/s, R = {R:.6g} m, "
-            f"m = {m:.6g} kg: the contact laws hold for delta <= R only")
 
 
 def _quantity(key, force, area):

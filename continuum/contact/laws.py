@@ -6,12 +6,12 @@ severity variable s(delta) (a strain or a normalised interference) and threshold
 formula changes; ``branch = number of thresholds reached``. Under monotone loading of a
 homogeneous target the branch follows from s(delta); in a layered target s can fall while
 loading continues, and the regime is then taken from the largest s reached so far
-(physics.md section 3). Within a branch a formula is evaluated with s no lower than the
+(docs/physics.md section 3). Within a branch a formula is evaluated with s no lower than the
 branch's own lower threshold, so a yielded contact never returns to a lower formula.
 
 Units: delta, R in m; E_star, sigma_y in Pa; forces in N; areas in m^2. All methods broadcast.
 
-Sources (physics.md sections 1-3): Hertz (Johnson 1985); Komvopoulos & Ye, J. Tribol. 123
+Sources (docs/physics.md sections 1-3): Hertz (Johnson 1985); Komvopoulos & Ye, J. Tribol. 123
 (2001) 632 [R: constants reconstructed]; Kogut & Etsion, J. Appl. Mech. 69 (2002) 657;
 Jackson & Green, J. Tribol. 127 (2005) 343; Thornton, J. Appl. Mech. 64 (1997) 383.
 """
@@ -167,7 +167,7 @@ def _hertz_area(delta, R):
 @dataclass(frozen=True)
 class Hertz(ContactLaw):
     """Hertz contact at every depth; severity delta / delta_Y with delta_Y from first yield
-    of physics.md section 2, so that a result can say that yield was exceeded."""
+    of docs/physics.md section 2, so that a result can say that yield was exceeded."""
 
     name = "hertz"
     thresholds = (1.0,)
@@ -184,7 +184,7 @@ class Hertz(ContactLaw):
 
 # --- Komvopoulos & Ye 2001 ----------------------------------------------------------------------
 
-#: Constants of the Komvopoulos-Ye law as reconstructed in physics.md section 3 [R]:
+#: Constants of the Komvopoulos-Ye law as reconstructed in docs/physics.md section 3 [R]:
 #: p_m/sigma_Y = K_EL eps (elastic), SLOPE ln(eps) + C1 (elastic-plastic), PLATEAU (fully
 #: plastic); A_t/A = 2 (elastic), Q2 ln(eps)^2 + Q1 ln(eps) + C2, TAIL (eps > EPS3).
 KY_LITERAL = {"EPS1": 1.78, "EPS2": 21.0, "EPS3": 400.0,
@@ -195,7 +195,7 @@ KY_LITERAL = {"EPS1": 1.78, "EPS2": 21.0, "EPS3": 400.0,
 def _ky_continuous_constants(c) -> dict:
     """The literal constants with C1, C2, PLATEAU and TAIL re-derived so that p_m and A (hence
     P) are exactly continuous at each breakpoint: 0.66475, 2.31204, 2.79593, 0.69174.
-    physics.md quotes 0.665, 2.312, 2.8 and 0.70, which leave jumps up to 1.2 %. The plateau,
+    docs/physics.md quotes 0.665, 2.312, 2.8 and 0.70, which leave jumps up to 1.2 %. The plateau,
     hence k_T for measured profiles, is 2.796 instead of 2.8."""
     l1, l2, l3 = math.log(c["EPS1"]), math.log(c["EPS2"]), math.log(c["EPS3"])
     out = dict(c)
@@ -215,7 +215,7 @@ class KomvopoulosYe(ContactLaw):
     """Rigid sphere on an elastic-perfectly plastic half-space (Komvopoulos & Ye 2001) [R].
 
     Representative strain eps = E* delta / (sigma_Y sqrt(delta (2R - delta))); truncated area
-    A_t = pi delta (2R - delta); P = p_m A with p_m/sigma_Y and A_t/A from physics.md section 3.
+    A_t = pi delta (2R - delta); P = p_m A with p_m/sigma_Y and A_t/A from docs/physics.md section 3.
     ``continuous=False`` uses the literal constants (force jumps of -4.6 % at eps = 1.78 and
     +8.3 % at eps = 400); ``continuous=True`` the variant continuous at every breakpoint.
     Valid for loading and delta <= R.

@@ -7,7 +7,7 @@ model combines E_p with the impactor into the reduced modulus. Three kinds:
 
 - `UniformProfile`: a homogeneous half-space.
 - `StackProfile`: a layer stack with the Gao, Chiu & Lee (1992) weights [C2] and their
-  multilayer extension [R] (physics.md section 7), at the contact radius a = sqrt(R delta)
+  multilayer extension [R] (docs/physics.md section 7), at the contact radius a = sqrt(R delta)
   of Hertz contact. Weighted quantities: E_p and sigma_y with I0, nu with I1. The weighting of
   sigma_y is the same heuristic as that of the modulus [R]. Optionally each layer's sigma_y
   carries the Nix-Gao size effect sigma_y sqrt(1 + h*/delta) (Nix & Gao 1998, hardness taken
@@ -60,7 +60,7 @@ def _i0(x, nu, angle, log_term):
 
 
 def gao_i0(x, nu):
-    """Gao weight I0(x) for the shear modulus, x = t/a (physics.md section 7):
+    """Gao weight I0(x) for the shear modulus, x = t/a (docs/physics.md section 7):
     (2/pi) atan(x) + [(1-2nu) x ln((1+x^2)/x^2) - x/(1+x^2)] / (2 pi (1-nu)).
     I0(0) = 0, I0(inf) = 1, I0(1, nu=0.3) = 0.4494."""
     x = np.asarray(x, dtype=float)

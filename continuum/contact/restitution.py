@@ -4,7 +4,7 @@ Unloading is Hertzian from the state at maximum approach (delta_max, P_max, cont
 P = (4/3) E* R_new^(1/2) (delta - delta_res)^(3/2), which returns W_unload = (2/5) P_max delta_e
 with delta_e = delta_max - delta_res. The restitution coefficient is the energy identity
 e_y = sqrt(W_unload / W_load) (exact for a rate-independent law). Models of delta_res
-(physics.md section 4):
+(docs/physics.md section 4):
 
 - ``crater`` [C2]: R_new = 4 E* a_max^3 / (3 P_max), delta_e = a_max^2 / R_new (Johnson 1985
   section 11.5; Thornton 1997).

@@ -61,8 +61,8 @@ class LoadDisplacementCurve:
     segment : array_like or None
         Per-point label: 0/'load', 1/'hold', 2/'unload'. Detected from the load rate when None.
     indenter : str
-        The tip, in the text form of `filmscale.continuum.tips.parse_tip` (``berkovich``,
-        ``sphere:5um``, ...); empty when unknown.
+        The tip, in the text form of `filmscale.continuum.indentation.tips.parse_tip`
+        (``berkovich``, ``sphere:5um``, ...); empty when unknown.
     meta : mapping
         Provenance: source file, instrument or simulation inputs, seeds, versions.
 

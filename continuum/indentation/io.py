@@ -1,9 +1,10 @@
 """Readers (and group writers) for continuum's data: unit-aware tables and load-displacement curves.
 
 Text tables: the first non-empty line is the header (a leading # is allowed): it names each
-column and may give its unit in brackets, ``h_c [nm], E_r [GPa], H [GPa]`` or
-``h [nm], P [uN], t [s]`` (comma- or whitespace-separated). Later lines starting with # are
-comments. A column without a unit is taken as SI already.
+column and may give its unit in brackets or parentheses, ``h_c [nm], E_r [GPa], H [GPa]``,
+``h [nm], P [uN], t [s]`` or ``E (GPa), dP/dh (N/m)`` (comma- or whitespace-separated; with
+commas, names may contain spaces). Later lines starting with # are comments. A column without
+a unit is taken as SI already. In comma-separated rows an empty field is NaN.
 
 HDF5 curves (format ``filmscale.curve/1``): one group per curve with datasets ``h`` (m), ``P``
 (N), optional ``t`` (s) and ``segment`` (0 load, 1 hold, 2 unload), attributes ``indenter``
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import re
 from pathlib import Path
 
@@ -40,26 +42,79 @@ UNITS = {
     "nm/s": 1e-9,
 }
 
-_COLUMN = re.compile(r"\s*([^\[\],\s]+)\s*(?:\[([^\]]*)\])?\s*")
+_COLUMN = re.compile(r"\s*([^\[\],\s]+)\s*(?:\[([^\]]*)\]|(?<=\s)\(([^)]*)\))?\s*")
+#: one field of a comma-separated header: a name (spaces allowed) and an optional unit
+_FIELD = re.compile(r"\s*([^\[\],]*?)\s*(?:\[([^\]]*)\]|(?<=\s)\(([^)]*)\))?\s*")
+
+
+def _unit_factor(name: str, unit: str | None) -> float:
+    if unit is None:
+        return 1.0
+    if unit.strip() not in UNITS:
+        raise InputError(f"unknown unit [{unit}] for column {name!r}; known: "
+                         f"{', '.join(UNITS)}")
+    return UNITS[unit.strip()]
 
 
 def parse_header(line: str) -> list[tuple[str, float]]:
-    """[(name, factor to SI)] from a header such as ``h [nm], P [uN], t [s]``."""
-    out, pos = [], 0
+    """[(name, factor to SI)] from a header such as ``h [nm], P [uN], t [s]``.
+
+    A unit is given in brackets or, after a space, in parentheses (``E (GPa)``). Columns are
+    separated by commas or whitespace; in a header with commas, only commas separate, so a
+    name may contain spaces (``Young modulus (GPa), dP/dh (N/m)``).
+    """
     text = line.strip().lstrip("#").strip()
+    if "," in text:
+        return _parse_comma_header(text)
+    return _parse_words(text)
+
+
+def _parse_words(text: str) -> list[tuple[str, float]]:
+    out, pos = [], 0
     while pos < len(text):
         match = _COLUMN.match(text, pos)
         if not match or match.end() == pos:
             raise InputError(f"cannot read the column header near {text[pos:pos + 20]!r}")
-        name, unit = match.group(1), match.group(2)
-        if unit is not None and unit.strip() not in UNITS:
-            raise InputError(f"unknown unit [{unit}] for column {name!r}; known: "
-                             f"{', '.join(UNITS)}")
-        out.append((name, UNITS[unit.strip()] if unit is not None else 1.0))
+        name, unit = match.group(1), match.group(2) or match.group(3)
+        out.append((name, _unit_factor(name, unit)))
         pos = match.end()
-        if pos < len(text) and text[pos] == ",":
-            pos += 1
     return out
+
+
+def _parse_comma_header(text: str) -> list[tuple[str, float]]:
+    fields = text.split(",")
+    if not fields[-1].strip():         # a trailing comma closes the header
+        fields.pop()
+    out = []
+    for field in fields:
+        if not field.strip():
+            raise InputError(f"cannot read the column header near {text[:20]!r}: an empty "
+                             "column name")
+        match = _FIELD.fullmatch(field)
+        if match and match.group(1):
+            name, unit = match.group(1), match.group(2) or match.group(3)
+            out.append((name, _unit_factor(name, unit)))
+        else:       # several bracketed columns between two commas: h [nm] P [uN], t [s]
+            out += _parse_words(field.strip())
+    return out
+
+
+def _read_comma_rows(body: str, width: int) -> np.ndarray | None:
+    """Rows of comma-separated numbers, an empty field read as NaN; None unless every row has
+    ``width`` fields of numbers."""
+    rows = []
+    for line in body.splitlines():
+        line = line.split("#", 1)[0]
+        if not line.strip():
+            continue
+        fields = line.split(",")
+        if len(fields) != width:
+            return None
+        try:
+            rows.append([float(f) if f.strip() else math.nan for f in fields])
+        except ValueError:
+            return None
+    return np.array(rows, dtype=float).reshape(-1, width)
 
 
 def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
@@ -72,14 +127,21 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     columns = parse_header(header)
     if not re.search(r"^\s*[-+.0-9]", body, flags=re.MULTILINE):
         raise InputError(f"table {path} has a header but no rows of numbers")
+    data, error = None, None
     try:
         # one replace over the whole text: thousands of files are read in a batch
         data = np.loadtxt(io.StringIO(body.replace(",", " ")), comments="#", ndmin=2)
     except ValueError as err:
-        raise InputError(f"table {path}: {err}") from None
-    if data.shape[1] != len(columns):
-        raise InputError(f"table {path} has {data.shape[1]} columns of numbers but its header "
-                         f"names {len(columns)}")
+        error = f"table {path}: {err}"
+    if error is None and data.shape[1] != len(columns):
+        error = (f"table {path} has {data.shape[1]} columns of numbers but its header names "
+                 f"{len(columns)}")
+    if error is not None and "," in header:
+        # comma-separated with empty fields (NaN), which the fast path above cannot place
+        data = _read_comma_rows(body, len(columns))
+        error = None if data is not None else error
+    if error is not None:
+        raise InputError(error)
     out = {name: data[:, k] * factor for k, (name, factor) in enumerate(columns)}
     missing = [c for c in required if c not in out]
     if missing:

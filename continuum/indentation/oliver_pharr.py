@@ -1,6 +1,6 @@
 """Indentation analysis: Oliver-Pharr and its corrections, spherical tips, size effect.
 
-Equations from physics.md section 9:
+Equations from docs/physics.md section 9:
 
 - Oliver & Pharr, J. Mater. Res. 7 (1992) 1564 and 19 (2004) 3: unloading fit
   P = B (h - h_f)^m over 20-98 % of P_max (ISO 14577-1), S = m B (h_max - h_f)^(m-1),
@@ -26,16 +26,13 @@ from .tips import Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, modulus_from_reduced
 from filmscale.core.checks import check_choice, check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.jsonable import to_jsonable
 
 OK, FAILED = 0, 1
 EPSILON_CHOICES = ("tip", "exponent")
 BETA_CHOICES = ("tip", "hay", "no-slip")
 POOR_FIT_RMS = 0.02           #: unloading fit rms above 2 % of P_max is flagged
 EXPONENT_RANGE = (1.0, 2.5)   #: m outside this is not a tip-on-half-space unloading
-
-
-def _json_float(x):
-    return None if x is None or not math.isfinite(x) else float(x)
 
 
 @dataclass(frozen=True)
@@ -82,12 +79,8 @@ class OliverPharrResult:
             if key == "flags":
                 out[key] = [f.code for f in self.flags]
                 out["flag_messages"] = [f.message for f in self.flags]
-            elif isinstance(value, float):
-                out[key] = _json_float(value)
-            elif isinstance(value, tuple):
-                out[key] = list(value)
             else:
-                out[key] = value
+                out[key] = to_jsonable(value)
         return out
 
     def summary(self) -> str:

@@ -5,7 +5,7 @@ half-angle of its equivalent cone (degrees, None for a sphere or flat punch), th
 geometry constant ``epsilon`` of Oliver-Pharr and the default correction factor ``beta`` of
 E_r = sqrt(pi) S / (2 beta sqrt(A_c)).
 
-Sources (physics.md section 9): ideal areas Fischer-Cripps, *Nanoindentation* (2011) table 1.1;
+Sources (docs/physics.md section 9): ideal areas Fischer-Cripps, *Nanoindentation* (2011) table 1.1;
 beta of pyramids King (1987); Hay, Bolshakov & Pharr, J. Mater. Res. 14 (1999) 2296 for cones;
 Borodich & Keer (2004) for no-slip contact; polynomial area Oliver & Pharr, J. Mater. Res. 7
 (1992) 1564; spherical-conical tip with tangent transition, e.g. Fischer-Cripps (2011) sec. 1.2.
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -110,6 +110,10 @@ def _depth(h_c):
 class Cone(Tip):
     """A cone (or a pyramid through its equivalent cone): A = k h_c^2 with k = pi tan^2(theta).
 
+    With a flat truncation of radius r0 at the apex (what LAMMPS ``fix indent cone`` builds),
+    A = k (h_c + h_0)^2 with h_0 = r0 / tan(theta): pi r0^2 at h_c = 0 for a cone, and the
+    sharp area times (1 + h_0/h_c)^2 deeper.
+
     Parameters
     ----------
     half_angle : float
@@ -120,11 +124,29 @@ class Cone(Tip):
         ``cone``, ``berkovich`` or ``cube-corner``: sets the defaults of eps (0.727 for a cone,
         0.75 for pyramids, Oliver & Pharr 1992) and beta (1 for a cone, 1.034 for three-sided
         pyramids, King 1987).
+    eps_r : float or None
+        Representative plastic strain of the sharp-indentation (Dao) analysis, in (0, 1].
+    pi1 : tuple of 4 floats or None
+        (A, B, C, D) of Pi1_theta = C / sigma_r = A x^3 + B x^2 + C x + D with
+        x = ln(E*/sigma_r).
+    c_star : float or None
+        c* in dP/dh = c* E* sqrt(A_m).
+    tip_radius : float
+        Radius r0 of the flat truncation at the apex, m (0: sharp).
+
+    ``eps_r``, ``pi1`` and ``c_star`` calibrate the reverse analysis
+    (`filmscale.continuum.indentation.reverse`); None uses the published calibration for this
+    angle (Dao et al. 2001 for Berkovich and 70.3 deg, Chollacoop et al. 2003 for 50-80 deg,
+    none for the cube corner).
     """
 
     half_angle_deg: float = 70.3
     area_coefficient: float | None = None
     name: str = "cone"
+    eps_r: float | None = None
+    pi1: tuple[float, float, float, float] | None = None
+    c_star: float | None = None
+    tip_radius: float = 0.0
 
     def __post_init__(self):
         theta = check_real("cone half_angle", self.half_angle_deg, low=HALF_ANGLE_RANGE[0],
@@ -134,20 +156,48 @@ class Cone(Tip):
         if k is None:
             k = math.pi * math.tan(math.radians(theta))**2
         object.__setattr__(self, "area_coefficient", check_positive("area coefficient", k))
+        r0 = check_real("cone tip_radius", self.tip_radius, low=0.0, high=LENGTH_RANGE[1],
+                        unit="m")
+        object.__setattr__(self, "tip_radius", r0)
+        self._check_calibration()
         pyramid = self.name in ("berkovich", "cube-corner")
-        object.__setattr__(self, "spec", self.name if pyramid else f"cone:{theta:g}")
+        spec = self.name if pyramid else f"cone:{theta:g}"
+        if r0 > 0:
+            spec += f":{r0:g}"
+        object.__setattr__(self, "spec", spec)
         object.__setattr__(self, "epsilon", EPS_PARABOLOID if pyramid else EPS_CONE)
         object.__setattr__(self, "beta", BETA_TRIANGULAR if pyramid else 1.0)
+
+    def _check_calibration(self):
+        if self.eps_r is not None:
+            object.__setattr__(self, "eps_r", check_real("tip eps_r", self.eps_r, low=0.0,
+                                                         high=1.0, low_open=True))
+        if self.c_star is not None:
+            object.__setattr__(self, "c_star", check_positive("tip c_star", self.c_star))
+        if self.pi1 is not None:
+            coeffs = tuple(self.pi1) if isinstance(self.pi1, (tuple, list)) else ()
+            if len(coeffs) != 4:
+                raise InputError(f"tip pi1 must be 4 numbers (A, B, C, D), got {self.pi1!r}")
+            object.__setattr__(self, "pi1", tuple(check_real(f"tip pi1[{i}]", c)
+                                                  for i, c in enumerate(coeffs)))
 
     @property
     def half_angle(self) -> float:
         return self.half_angle_deg
 
+    @property
+    def truncation_depth(self) -> float:
+        """h_0 = r0 / tan(theta), m: the depth the truncation removes from the apex."""
+        return self.tip_radius / math.tan(math.radians(self.half_angle_deg))
+
     def area(self, h_c):
-        return self.area_coefficient * _depth(h_c)**2
+        return self.area_coefficient * (_depth(h_c) + self.truncation_depth)**2
 
     def area_derivative(self, h_c):
-        return 2.0 * self.area_coefficient * _depth(h_c)
+        return 2.0 * self.area_coefficient * (_depth(h_c) + self.truncation_depth)
+
+    def describe(self) -> dict:
+        return {**super().describe(), "tip_radius": self.tip_radius}
 
 
 def berkovich() -> Cone:
@@ -381,8 +431,8 @@ def fit_tip_radius(h_c, S, *, half_angle=BERKOVICH_CONE, beta=BETA_TRIANGULAR,
 
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 _NUMBER = re.compile(r"^\s*([0-9.eE+-]+)\s*([a-zµ]*)\s*$")
-TIP_FORMS = ("berkovich", "cube-corner", "cone:THETA", "sphere:R", "sphero-conical:R[:THETA]",
-             "flat:A")
+TIP_FORMS = ("berkovich[:R0]", "cube-corner[:R0]", "cone:THETA[:R0]", "sphere:R",
+             "sphero-conical:R[:THETA]", "flat:A")
 
 
 def parse_length(text: str, what: str) -> float:
@@ -398,10 +448,15 @@ def parse_length(text: str, what: str) -> float:
     return value * _LENGTH_UNITS.get(match.group(2) or "m")
 
 
+def _truncation(text: str) -> float:
+    return parse_length(text, "cone tip_radius")
+
+
 def parse_tip(spec: str) -> Tip:
     """A tip from its text: berkovich, cube-corner, cone:70.3, sphere:5um,
     sphero-conical:250nm:70.3, flat:1um. Lengths are in m unless a unit (nm, um, mm) follows;
-    angles in degrees."""
+    angles in degrees. A cone or pyramid may end in the radius r0 of a flat truncation at its
+    apex: cone:70.3:0.2nm, cone:70.3:2e-10, berkovich:5nm."""
     if isinstance(spec, Tip):
         return spec
     if not isinstance(spec, str):
@@ -409,12 +464,11 @@ def parse_tip(spec: str) -> Tip:
     name, _, rest = spec.strip().lower().partition(":")
     args = rest.split(":") if rest else []
     try:
-        if name == "berkovich" and not args:
-            return berkovich()
-        if name == "cube-corner" and not args:
-            return cube_corner()
-        if name == "cone" and len(args) == 1:
-            return Cone(float(args[0]))
+        if name in ("berkovich", "cube-corner") and len(args) <= 1:
+            tip = berkovich() if name == "berkovich" else cube_corner()
+            return replace(tip, tip_radius=_truncation(args[0])) if args else tip
+        if name == "cone" and len(args) in (1, 2):
+            return Cone(float(args[0]), tip_radius=_truncation(args[1]) if len(args) == 2 else 0.0)
         if name == "sphere" and len(args) == 1:
             return Sphere(parse_length(args[0], "sphere radius"))
         if name == "sphero-conical" and len(args) in (1, 2):

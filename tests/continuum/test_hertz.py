@@ -1,4 +1,4 @@
-"""Closed forms of physics.md sections 1-2 against independent computations."""
+"""Closed forms of docs/physics.md sections 1-2 against independent computations."""
 
 import numpy as np
 import pytest
@@ -14,7 +14,7 @@ def test_duration_constant_matches_direct_quadrature_and_physics_md():
     # t_c V / delta_max = 2 integral_0^1 dx / sqrt(1 - x^(5/2)) (energy conservation)
     integral, _ = quad(lambda x: 1.0 / np.sqrt(1.0 - x**2.5), 0.0, 1.0, limit=200)
     assert HERTZ_DURATION_FACTOR == pytest.approx(2.0 * integral, rel=1e-9)
-    assert HERTZ_DURATION_FACTOR == pytest.approx(2.943275, abs=5e-7)  # physics.md digits
+    assert HERTZ_DURATION_FACTOR == pytest.approx(2.943275, abs=5e-7)  # docs/physics.md digits
 
 
 def test_elastic_impact_energy_balance():
@@ -51,7 +51,7 @@ def test_yield_pressure_factor_against_exact_von_mises(nu):
     res = minimize_scalar(lambda z: -_on_axis_von_mises(z, nu), bounds=(0.05, 2.0),
                           method="bounded", options={"xatol": 1e-10})
     exact = 1.0 / -res.fun
-    # physics.md: the exponential fit is within 0.35 % of the exact value on [0, 0.5]
+    # docs/physics.md: the exponential fit is within 0.35 % of the exact value on [0, 0.5]
     assert yield_pressure_factor(nu) == pytest.approx(exact, rel=0.0035)
 
 

@@ -29,7 +29,7 @@ def disk_stack(substrate=GLASS):
                       substrate)
 
 
-# --- Hertz oracle (physics.md section 1) -------------------------------------------------------
+# --- Hertz oracle (docs/physics.md section 1) -------------------------------------------------------
 
 @pytest.mark.parametrize("V, R, m", [(0.2, 10e-6, M), (1e-4, 1e-3, M), (5.0, 50e-9, 1e-18),
                                      (0.05, 1e-6, M)])
@@ -104,7 +104,7 @@ def test_fast_path_agrees_with_time_integration_layered(name, V, R):
     _assert_paths_agree(ImpactModel(disk_stack(), contact_law(name), impactor=SLIDER), V, R)
 
 
-# --- first yield (physics.md section 2) ------------------------------------------------------
+# --- first yield (docs/physics.md section 2) ------------------------------------------------------
 
 @pytest.mark.parametrize("name", LAW_NAMES)
 def test_yield_velocity_separates_elastic_from_dissipative_impacts(name):
@@ -146,7 +146,7 @@ def test_section_2_yield_velocity_separates_elastic_from_dissipative(model):
 def test_law_yield_velocity_against_section_2(name, rel):
     # KY: eps = 1.78 gives delta_Y 1.4 % shallower than section 2 at nu = 0.3 (V ~ delta^1.25)
     # and its truncated area removes another O((sigma_Y/E*)^2)
-    mat = ElasticPlastic(E=90e9, nu=0.3, sigma_y=2.4e9)     # physics.md compares at nu = 0.3
+    mat = ElasticPlastic(E=90e9, nu=0.3, sigma_y=2.4e9)     # docs/physics.md compares at nu = 0.3
     R = 10e-6
     vy = float(ImpactModel(mat, contact_law(name)).first_yield(R, M)[1])
     assert vy == pytest.approx(yield_velocity(M, R, mat.plane_strain_modulus, mat.sigma_y, 0.3),
@@ -174,7 +174,7 @@ def test_thornton_law_with_crater_unloading_reproduces_thornton_cor():
     ratios = np.array([2.0, 5.0, 10.0, 100.0])
     res = model.maxima(ratios * v_y, R, m)
     np.testing.assert_allclose(res.restitution, [0.930626, 0.773337, 0.658558, 0.374299],
-                               atol=1e-6)                  # physics.md's test values
+                               atol=1e-6)                  # docs/physics.md's test values
     np.testing.assert_allclose(res.restitution, thornton_restitution(ratios * v_y, v_y),
                                rtol=1e-12)
     assert float(res.yield_velocity[0]) == pytest.approx(v_y, rel=1e-12)

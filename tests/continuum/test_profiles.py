@@ -13,7 +13,7 @@ DLC = ElasticPlastic(E=200e9, nu=0.25, sigma_y=8e9, name="DLC")
 
 
 def test_gao_weights_published_values_and_limits():
-    assert gao_i0(1.0, 0.3) == pytest.approx(0.4494, abs=5e-5)   # physics.md section 7
+    assert gao_i0(1.0, 0.3) == pytest.approx(0.4494, abs=5e-5)   # docs/physics.md section 7
     assert gao_i1(1.0) == pytest.approx(0.7206, abs=5e-5)
     assert gao_i0(0.0, 0.3) == 0.0 and gao_i1(0.0) == 0.0
     assert gao_i0(1e9, 0.3) == pytest.approx(1.0, abs=1e-8)

@@ -1,4 +1,4 @@
-"""Unloading models and closed-form restitution (physics.md section 4)."""
+"""Unloading models and closed-form restitution (docs/physics.md section 4)."""
 
 import numpy as np
 import pytest
@@ -59,6 +59,6 @@ def test_thornton_closed_form_limits():
     assert thornton_restitution(0.5, v_y) == 1.0
     assert thornton_restitution(1.0 + 1e-12, v_y) == pytest.approx(1.0, abs=1e-6)
     big = 1e8
-    # physics.md: large-V limit 1.185 (V_y/V)^(1/4); the exact prefactor is
+    # docs/physics.md: large-V limit 1.185 (V_y/V)^(1/4); the exact prefactor is
     # sqrt(6 sqrt(3)/5) (1/(2 sqrt(6/5)))^(1/4) = 1.1852
     assert thornton_restitution(big, v_y) == pytest.approx(1.185 * big**-0.25, rel=1e-3)

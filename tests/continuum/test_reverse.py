@@ -1,6 +1,7 @@
-"""Sharp-indentation reverse analysis (physics.md section 10) against independent references:
-the physics.md round-trip oracle, the FE cases and accuracy figures of the packaged data README
-(Lu et al. 2020 data, Dao et al. 2001 experiments), and self-consistency."""
+"""Sharp-indentation reverse analysis (docs/physics.md section 10) against independent
+references: the round-trip oracle of docs/physics.md, the FE cases and accuracy figures of the
+packaged data README (Lu et al. 2020 data, Dao et al. 2001 experiments), and
+self-consistency."""
 
 import dataclasses
 import json
@@ -12,15 +13,17 @@ from filmscale.continuum.indentation.reverse.dao import (dao_forward, dao_revers
                                                          dao_reverse_repeated)
 from filmscale.continuum.indentation.reverse.data import dao2001_table
 from filmscale.continuum.indentation.reverse.dual import dual_reverse
-from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, METHODS, PI1_DAO, PI1_THETA,
-                                                               dao_pi1, representative_strain,
-                                                               sharp_tip)
+from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, METHODS, PI1_DAO,
+                                                               PI1_THETA, dao_pi1,
+                                                               representative_strain,
+                                                               sharp_calibration, sharp_tip)
 from filmscale.continuum.indentation.reverse.surrogate import surrogate_hyperparameters
 from filmscale.continuum.indentation.reverse.validation import cross_validate, fe_error_table
+from filmscale.continuum.indentation.tips import Cone, berkovich
 from filmscale.core.errors import InputError, ModelRangeError
 
 
-ORACLE = dict(E=70.1e9, nu=0.33, sigma_y=0.5e9, n=0.122, h_m=1e-6)   # physics.md section 10
+ORACLE = dict(E=70.1e9, nu=0.33, sigma_y=0.5e9, n=0.122, h_m=1e-6)   # docs/physics.md section 10
 
 
 def oracle_forward(**kw):
@@ -72,9 +75,9 @@ def test_published_constants_are_consistent():
     dpi1 = np.polyder(PI1_DAO)
     for ratio in DAO_RATIO_RANGE:
         assert abs(np.polyval(dpi1, math.log(ratio))) < 0.02 * abs(dao_pi1(math.log(ratio)))
-    tip = sharp_tip("cone:60")
+    tip = sharp_calibration(sharp_tip("cone:60"))
     assert tip.pi1 == PI1_THETA[60.0] and tip.c_star == 1.1957
-    berk = sharp_tip("berkovich")
+    berk = sharp_calibration(sharp_tip("berkovich"))
     assert (berk.c_star, berk.eps_r, berk.pi1) == (1.2370, 0.033, PI1_DAO)
 
 
@@ -316,8 +319,31 @@ def test_tips_beyond_the_dao_geometry():
     with pytest.raises(ModelRangeError, match="no Pi1 calibration"):
         dao_forward(E, nu, sigma_y, n, 1e-6, tip="cube-corner")
     cc = dataclasses.replace(sharp_tip("cube-corner"), eps_r=0.1, pi1=PI1_THETA[50.0])
-    assert cc.x_range[0] < math.log(E / sigma_y) < cc.x_range[1]
+    cal = sharp_calibration(cc)
+    assert cal.x_range[0] < math.log(E / sigma_y) < cal.x_range[1]
     assert dao_forward(E, nu, sigma_y, n, 1e-6, tip=cc).C > 0
+
+
+def test_sharp_tips_are_cones_calibrated_by_the_reverse_analysis():
+    berk = sharp_tip("berkovich")
+    assert isinstance(berk, Cone) and berk == berkovich()
+    assert (berk.eps_r, berk.pi1, berk.c_star) == (None, None, None)   # published: resolved
+    assert sharp_tip(berk) is berk and sharp_tip(" Cube_Corner ") == sharp_tip("cube-corner")
+    # a calibration of the tip's own replaces the published one, field by field
+    own = sharp_calibration(dataclasses.replace(berk, c_star=1.3))
+    assert (own.c_star, own.eps_r, own.pi1, own.dao_functions) == (1.3, 0.033, PI1_DAO, True)
+    cal = sharp_calibration("cone:65")
+    assert cal.interpolated and cal.name == "cone:65"
+    assert cal.eps_r == pytest.approx(float(representative_strain(65.0)), rel=1e-15)
+    with pytest.raises(InputError, match="tip eps_r"):
+        dataclasses.replace(berk, eps_r=1.5)
+    with pytest.raises(InputError, match="4 numbers"):
+        dataclasses.replace(berk, pi1=(1.0, 2.0))
+    # a truncated cone is not sharp: refused as text, out of the model's range as a Cone
+    with pytest.raises(InputError, match="tip"):
+        sharp_tip("cone:70.3:5nm")
+    with pytest.raises(ModelRangeError, match="truncated"):
+        dao_forward(70e9, 0.3, 0.5e9, 0.1, 1e-6, tip=Cone(70.3, tip_radius=5e-9))
 
 
 # --- bad inputs -------------------------------------------------------------------------------

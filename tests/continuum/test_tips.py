@@ -34,7 +34,7 @@ def test_sphere_area_is_the_spherical_cap():
 
 def test_spherical_cone_transition_is_smooth():
     tip = SphericalCone(250e-9, 70.3)
-    # physics.md: theta = 70.3 deg, R = 250 nm -> h_a = 14.63 nm
+    # docs/physics.md: theta = 70.3 deg, R = 250 nm -> h_a = 14.63 nm
     assert tip.transition_depth == pytest.approx(14.63e-9, abs=0.01e-9)
     h_a = tip.transition_depth
     d = 1e-6 * h_a
@@ -44,6 +44,41 @@ def test_spherical_cone_transition_is_smooth():
         float(tip.area_derivative(h_a + d)), rel=1e-5)
     # far beyond the tip radius, the area approaches the cone's (offset small against h)
     assert tip.area(1e-4) == pytest.approx(Cone(70.3).area(1e-4), rel=1e-2)
+
+
+def test_truncated_cone_area():
+    # LAMMPS fix indent cone: a flat of radius r0 at the apex, A = k (h_c + r0/tan(theta))^2
+    r0, theta = 2e-9, 70.3
+    tip = Cone(theta, tip_radius=r0)
+    sharp = Cone(theta)
+    assert tip.area(0.0) == pytest.approx(math.pi * r0**2, rel=1e-12)
+    h0 = r0 / math.tan(math.radians(theta))
+    assert tip.truncation_depth == pytest.approx(h0, rel=1e-15)
+    # deep indents approach the sharp cone: relative difference 2 h0/h + (h0/h)^2 -> 0
+    for h in (1e-7, 1e-6, 1e-5):
+        excess = tip.area(h) / sharp.area(h) - 1.0
+        assert excess == pytest.approx(2 * h0 / h, rel=1.01 * h0 / (2 * h))
+    h, d = 30e-9, 1e-13
+    assert float(tip.area_derivative(h)) == pytest.approx(
+        (tip.area(h + d) - tip.area(h - d)) / (2 * d), rel=1e-6)
+    assert Cone(theta, tip_radius=0.0) == sharp and sharp.describe()["tip_radius"] == 0.0
+    assert tip.describe()["tip_radius"] == r0
+
+
+def test_truncated_cone_spec_round_trip():
+    for text, r0 in (("cone:70.3:0.2nm", 0.2e-9), ("cone:70.3:2e-10", 2e-10),
+                     ("berkovich:5nm", 5e-9)):
+        tip = parse_tip(text)
+        assert isinstance(tip, Cone) and tip.tip_radius == pytest.approx(r0, rel=1e-12)
+        again = parse_tip(tip.spec)
+        assert again.spec == tip.spec and again.tip_radius == pytest.approx(r0, rel=1e-12)
+        assert again.area_coefficient == tip.area_coefficient
+    assert parse_tip("cone:70.3:0.2nm").spec == "cone:70.3:2e-10"
+    assert parse_tip("cone:70.3").spec == "cone:70.3"
+    with pytest.raises(InputError, match="tip_radius"):
+        parse_tip("cone:70.3:-1nm")
+    with pytest.raises(InputError, match="tip_radius"):
+        Cone(70.3, tip_radius=1.0)
 
 
 def _reference_stiffness(tip, h_c, beta=1.034):
@@ -75,7 +110,7 @@ def test_epsilon_from_exponent_published_values():
 
 
 def test_beta_values():
-    assert beta_hay(70.3, 0.3) == pytest.approx(1.067, abs=5e-4)      # physics.md
+    assert beta_hay(70.3, 0.3) == pytest.approx(1.067, abs=5e-4)      # docs/physics.md
     assert beta_no_slip(0.3) == pytest.approx(1.0286, abs=5e-5)
     assert beta_no_slip(0.5) == 1.0
     assert beta_hay(70.3, 0.5) == pytest.approx(1.0, abs=1e-12)       # g = 0: no correction

@@ -11,9 +11,9 @@ from filmscale.continuum.materials import ElasticPlastic
 from filmscale.md.particle_run import (ParticleRun, analyze_impact, block_hertz_force,
                                        residual_from_unloading)
 from filmscale.md.particle_spec import PRESETS, preset, spec_from_mapping
-from filmscale.md.particles import (K_FACTOR, Grid, IndentLoading, ParticleImpactSpec,
-                                    ParticleIndentSpec, ParticleMaterial, ParticleTarget,
-                                    input_text, johnson_cook_hardening)
+from filmscale.md.particle_inputs import K_FACTOR, input_text, johnson_cook_hardening
+from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
+                                    ParticleIndentSpec, ParticleMaterial, ParticleTarget)
 from filmscale.md.units import from_si, to_si
 from filmscale.continuum.contact.hertz import elastic_impact, elastic_impact_time, hertz_force
 from filmscale.core.errors import InputError
@@ -194,7 +194,7 @@ def test_spec_from_mapping_names_missing_and_unknown_keys():
     assert spec_from_mapping(base, "indent").loading.depth == 1e-7
     with pytest.raises(InputError, match="impact"):
         spec_from_mapping(base, "impact")
-    with pytest.raises(InputError, match="unknown keys"):
+    with pytest.raises(InputError, match="unknown key grid.size"):
         spec_from_mapping({**base, "grid": {**base["grid"], "size": 1}}, "indent")
     with pytest.raises(InputError, match="needs E"):
         spec_from_mapping({**base, "target": {"substrate": {"nu": 0.3}}}, "indent")

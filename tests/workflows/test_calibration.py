@@ -90,7 +90,7 @@ def synthetic_sharp_curve(E, nu, sy, n, h_m, tip="berkovich", points=200):
 
 
 def test_sharp_round_trip_of_dao_forward():
-    """Al 7075-T651 (physics.md round-trip oracle): the curve built from Dao's forward
+    """Al 7075-T651 (docs/physics.md round-trip oracle): the curve built from Dao's forward
     functions is reversed to E within 3 %, sigma_y within 10 % and n within 0.03 (the
     closed-form reverse's own round-trip error plus the Oliver-Pharr fit of the
     unloading); each within its Monte Carlo uncertainty (3 standard deviations)."""
@@ -151,7 +151,7 @@ def sized_curves(sy0=0.5e9, h_star=0.3e-6, depths=(0.1e-6, 0.2e-6, 0.5e-6, 1e-6,
 def test_size_effect_recovers_the_nix_gao_length_of_sigma_y():
     """Curves at 5 depths with sigma_y = 0.5 GPa sqrt(1 + 0.3 um / h): each reversed on its
     own, the Nix-Gao line gives sigma_y0 within 2 % and h* within 5 % (the closed-form
-    round trip of Dao's functions, physics.md; measured 0.01 %). The hardness form would
+    round trip of Dao's functions, docs/physics.md; measured 0.01 %). The hardness form would
     not: Oliver-Pharr H grows more slowly than sigma_y, and its h* is half the true one."""
     from filmscale.continuum.calibration.sharp import size_effect, with_size_effect
     curves = sized_curves()

@@ -12,7 +12,7 @@ import pytest
 
 from filmscale.continuum import ElasticPlastic, elastic_impact
 from filmscale.workflows.cli import main
-from filmscale.workflows.store import read_impact_maps
+from filmscale.workflows.result import read_impact_maps
 from filmscale.core.files import atomic_h5
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"

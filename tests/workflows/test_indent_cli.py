@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from filmscale.workflows.cli import main
-from filmscale.workflows.store import read_indentation_results
 from filmscale.continuum.indentation.curves import synthetic_curve
 from filmscale.continuum.indentation.io import read_table
 from filmscale.continuum.indentation.tips import berkovich
+from filmscale.workflows.result import read_indentation_results
 
 FILMSCALE = Path(sys.executable).with_name("filmscale")
 KEYS = ("E_r", "H", "h_c", "S", "P_max", "h_max", "A_c", "flags")
@@ -112,7 +112,7 @@ def test_reverse_json_has_every_value_with_its_std(capsys):
     row = json.loads(capsys.readouterr().out)
     for key in ("E_star", "sigma_r", "n", "sigma_y"):
         assert key in row and f"{key}_std" in row
-    # physics.md round-trip oracle (inputs given to 5 digits): E* = 73.440 GPa,
+    # docs/physics.md round-trip oracle (inputs given to 5 digits): E* = 73.440 GPa,
     # sigma_0.033 = 0.6173 GPa, n = 0.122, sigma_Y = 0.5 GPa, E = 70.1 GPa
     assert row["E_star"] == pytest.approx(73.440e9, rel=1e-4)
     assert row["sigma_r"] == pytest.approx(0.6173e9, rel=2e-4)

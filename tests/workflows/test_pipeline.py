@@ -10,8 +10,12 @@ import pytest
 from filmscale.continuum import ImpactModel
 from filmscale.workflows.report import write_figure, write_report
 from filmscale.continuum.contact.laws import contact_law
-from filmscale.core.errors import InputError
 from filmscale.workflows import pipeline as pl
+from filmscale.core.errors import InputError
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.workflows.plan import plan_scene
+from filmscale.workflows.result import RESULT_FORMAT
+from filmscale.workflows.scene import parse_pipeline
 
 BASE = """
 [impactor]
@@ -37,7 +41,7 @@ tolerance = 0.05
 
 def scene(R=10e-6, m=1.6e-6, V=0.2, t=4e-9, film='E = 200e9\nsigma_y = 8e9',
           want='["maxima"]', impactor_extra=""):
-    return pl.parse_pipeline(BASE.format(R=R, m=m, V=V, t=t, film=film, want=want,
+    return parse_pipeline(BASE.format(R=R, m=m, V=V, t=t, film=film, want=want,
                                          impactor_extra=impactor_extra))
 
 
@@ -46,7 +50,7 @@ def names(plan):
 
 
 def test_thin_film_under_a_large_sphere_is_left_out_with_its_error():
-    plan = pl.plan_scene(scene(t=4e-9, R=10e-6))
+    plan = plan_scene(scene(t=4e-9, R=10e-6))
     target = [s for s in plan.steps if s.name == "target"][0]
     assert target.model.startswith("substrate alone")
     change = float(target.error.split("%")[0]) / 100
@@ -62,15 +66,15 @@ def test_thin_film_under_a_large_sphere_is_left_out_with_its_error():
 
 
 def test_thick_stiff_film_under_a_small_sphere_is_modelled():
-    plan = pl.plan_scene(scene(t=200e-9, R=1e-6, m=1e-12, V=1.0))
-    assert ("target", "layered profile (Gao weighting, physics.md s. 7)") in names(plan)
+    plan = plan_scene(scene(t=200e-9, R=1e-6, m=1e-12, V=1.0))
+    assert ("target", "layered profile (Gao weighting, docs/physics.md s. 7)") in names(plan)
     assert plan.decisions["target"] == "layered"
 
 
 def test_hertz_where_nothing_yields_and_the_law_where_it_does():
-    slow = pl.plan_scene(scene(V=1e-3))
+    slow = plan_scene(scene(V=1e-3))
     assert slow.decisions["law"] == "hertz"
-    fast = pl.plan_scene(scene(V=1.0))
+    fast = plan_scene(scene(V=1.0))
     assert fast.decisions["law"] == "komvopoulos-ye"
     # independent check of the rule: the law itself says whether the point yields
     sc = scene().completed({})
@@ -81,10 +85,10 @@ def test_hertz_where_nothing_yields_and_the_law_where_it_does():
 
 
 def test_histories_take_the_time_path_and_maps_the_fast_path():
-    plan = pl.plan_scene(scene(want='["maxima", "history"]'))
+    plan = plan_scene(scene(want='["maxima", "history"]'))
     assert plan.decisions["path"] == "time"
     assert any(s.model == "time integration (histories)" for s in plan.steps)
-    assert pl.plan_scene(scene()).decisions["path"] == "fast"
+    assert plan_scene(scene()).decisions["path"] == "fast"
 
 
 @pytest.mark.parametrize("extra, want", [("friction = 0.5", '["maxima"]'),
@@ -92,14 +96,14 @@ def test_histories_take_the_time_path_and_maps_the_fast_path():
                                          ("", '["maxima", "tangential"]')])
 def test_oblique_or_frictional_questions_are_refused(extra, want):
     with pytest.raises(InputError, match="normal impact only"):
-        pl.plan_scene(scene(impactor_extra=extra, want=want))
+        plan_scene(scene(impactor_extra=extra, want=want))
 
 
 def test_md_only_for_layers_whose_parameters_are_missing():
     given = scene(film='E = 200e9\nsigma_y = 8e9\n[target.layers.calibrate]\nmd = "ci"')
     assert given.calibrations == ()
     missing = scene(film='[target.layers.calibrate]\nmd = "ci"')
-    plan = pl.plan_scene(missing)
+    plan = plan_scene(missing)
     assert plan.steps[0].name == "calibrate film" and "MD indentation (ci" in \
         plan.steps[0].model
     assert plan.steps[-1].model == "chosen after calibration"
@@ -119,17 +123,17 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
                        film='[target.layers.calibrate]\nmd = "ci"',
                        want='["maxima", "map"]') + \
         "[map]\nvelocity = [0.1, 10.0, 4]\nradius = [1e-7, 1e-5, 4]\n"
-    sc = pl.parse_pipeline(text, "test.toml", tmp_path)
+    sc = parse_pipeline(text, "test.toml", tmp_path)
     store, out = tmp_path / "store", tmp_path / "result.h5"
-    real = pl._impact_evaluation
+    real = pl.impact_evaluation
 
     def interrupted(*args):
         raise KeyboardInterrupt
-    monkeypatch.setattr(pl, "_impact_evaluation", interrupted)
+    monkeypatch.setattr(pl, "impact_evaluation", interrupted)
     with pytest.raises(KeyboardInterrupt):
         pl.run_scene(sc, store, out)
     assert not out.exists()
-    monkeypatch.setattr(pl, "_impact_evaluation", real)
+    monkeypatch.setattr(pl, "impact_evaluation", real)
     second = pl.run_scene(sc, store, out)
     assert sorted(second.units.values()) == ["ran", "reused", "reused"]
 
@@ -145,10 +149,10 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
             np.testing.assert_array_equal(a[key][()], b[key][()])
         E = a["calibration/0"].attrs["E"]
         assert 50e9 < E < 300e9                        # Cu: E about 110-150 GPa
-        assert a.attrs["format"] == pl.RESULT_FORMAT
+        assert a.attrs["format"] == RESULT_FORMAT
         assert "lammps_version" in a.attrs["md_0"] and "potential_sha256" in a.attrs["md_0"]
-        cal = pl.parse_pipeline(text, "test.toml", tmp_path)
-        mat = {0: pl.ElasticPlastic(E, 0.3, a["calibration/0"].attrs["sigma_y"])}
+        cal = parse_pipeline(text, "test.toml", tmp_path)
+        mat = {0: ElasticPlastic(E, 0.3, a["calibration/0"].attrs["sigma_y"])}
         scene_done = cal.completed(mat)
         model = (ImpactModel(scene_done.stack.substrate, contact_law(second.plan.decisions[
             "law"])) if second.plan.decisions["target"] == "substrate" else
@@ -183,7 +187,7 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
             'tolerance = 0.03')
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
                        want='["maxima"]') + '[model]\ncontact_law = "komvopoulos-ye-continuous"\n'
-    sc = pl.parse_pipeline(text, "curves.toml", tmp_path)
+    sc = parse_pipeline(text, "curves.toml", tmp_path)
     assert sc.calibrations[0].kind == "curves"
 
     def no_lammps(*args, **kwargs):
@@ -212,16 +216,16 @@ def test_calibration_sources_are_checked_before_any_run(tmp_path):
         scene(film='[target.layers.calibrate]\nmd = "ci"\ntolerance = 2')
     (tmp_path / "bare.csv").write_text("h [nm], P [uN]\n1, 1\n2, 3\n3, 5\n")
     with pytest.raises(InputError, match="names no indenter"):
-        pl.parse_pipeline(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-9, impactor_extra="",
+        parse_pipeline(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-9, impactor_extra="",
                                       want='["maxima"]',
                                       film='[target.layers.calibrate]\ncurves = ["bare.csv"]'),
                           "s.toml", tmp_path)
-    plan = pl.plan_scene(scene(film='[target.layers.calibrate]\nparticles = "ci"'))
+    plan = plan_scene(scene(film='[target.layers.calibrate]\nparticles = "ci"'))
     assert "particle-model indentation (ci" in plan.steps[0].model and plan.steps[0].cost_s > 0
     with pytest.raises(InputError, match=r"target.layers\[0\].calibrate\[1\].np = 0"):
         scene(film='[[target.layers.calibrate]]\nmd = "ci"\n'
                    '[[target.layers.calibrate]]\nparticles = "ci"\nnp = 0')
-    both = pl.plan_scene(scene(film='[[target.layers.calibrate]]\nmd = "ci"\n'
+    both = plan_scene(scene(film='[[target.layers.calibrate]]\nmd = "ci"\n'
                                     '[[target.layers.calibrate]]\nparticles = "ci"'))
     assert [s.name for s in both.steps[:3]] == ["calibrate film from md:ci",
                                                 "calibrate film from particles:ci",
@@ -247,7 +251,7 @@ def test_scene_calibrates_a_layer_from_the_particle_model(tmp_path):
     film = '[target.layers.calibrate]\nparticles = "ci"\ntolerance = 0.2'
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
                        want='["maxima"]')
-    sc = pl.parse_pipeline(text, "particles.toml", tmp_path)
+    sc = parse_pipeline(text, "particles.toml", tmp_path)
     first = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
     assert sorted(k.split("-")[0] for k in first.units) == ["calibration", "impact",
                                                             "particle"]
@@ -275,13 +279,13 @@ def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
     film = '[target.layers.calibrate]\ncurves = ["berkovich.h5"]'
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=film,
                        want='["maxima"]').replace("nu = 0.3\n", "nu = 0.33\n")
-    sc = pl.parse_pipeline(text, "sized.toml", tmp_path)
+    sc = parse_pipeline(text, "sized.toml", tmp_path)
     result = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
     with h5py.File(result.path, "r") as f:
         cal = json.loads(f["calibration/0"].attrs["calibration"])
     assert cal["h_star"]["value"] == pytest.approx(0.3e-6, rel=0.05)
     assert cal["sigma_y"]["value"] == pytest.approx(0.5e9, rel=0.02)
-    scene = sc.completed({0: pl.ElasticPlastic(70e9, 0.33, cal["sigma_y"]["value"])},
+    scene = sc.completed({0: ElasticPlastic(70e9, 0.33, cal["sigma_y"]["value"])},
                          {0: cal["h_star"]["value"]})
     prof = scene.model().target
     sy = prof.strengths(np.array([1e-7]))[0, 0]
@@ -315,7 +319,7 @@ def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tm
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=film,
                        want='["maxima"]').replace("nu = 0.3\n", f"nu = {tj.NU}\n") + \
         '[model]\ncontact_law = "komvopoulos-ye-continuous"\n'
-    sc = pl.parse_pipeline(text, "two.toml", tmp_path)
+    sc = parse_pipeline(text, "two.toml", tmp_path)
     assert [s.label for s in sc.calibrations] == ["curves:nm.csv", "curves:um.h5"]
     result = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
     assert [s.name for s in result.plan.steps[:3]] == [

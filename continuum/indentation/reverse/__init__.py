@@ -12,12 +12,14 @@ from filmscale.continuum.indentation.reverse.dao import (ForwardResult, ReverseR
                                                          dao_reverse_repeated)
 from filmscale.continuum.indentation.reverse.dual import DualResult, dual_reverse
 from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, NU_I_DAO,
-                                                               loading_curvature, sharp_tip)
+                                                               loading_curvature,
+                                                               sharp_calibration, sharp_tip)
 from filmscale.continuum.indentation.reverse.validation import (CrossValidation, cross_validate,
                                                                 fe_error_table)
 
 __all__ = [
     "dao_forward", "dao_reverse", "dao_reverse_repeated", "dual_reverse",
-    "ForwardResult", "ReverseResult", "DualResult", "sharp_tip", "loading_curvature",
+    "ForwardResult", "ReverseResult", "DualResult", "sharp_tip", "sharp_calibration",
+    "loading_curvature",
     "E_I_DAO", "NU_I_DAO", "cross_validate", "CrossValidation", "fe_error_table",
 ]

@@ -7,7 +7,7 @@ loading curvature C, the initial unloading slope dP/dh and the plastic work rati
 the reduced modulus E*, the representative stress sigma_0.033 at eps_r = 0.033, the hardening
 exponent n and the yield strength sigma_Y. Chollacoop, Dao & Suresh (2003, Acta Mater. 51,
 3713) extended Pi1 to cones of half-angle 50-80 deg and paired two tips ("dual indenter") to
-pin down n. Equations and coefficients: physics.md section 10 [C2].
+pin down n. Equations and coefficients: docs/physics.md section 10 [C2].
 
 Beyond the closed form, a surrogate is fitted to the FE cases packaged in ``data/dao2001``
 (Lu et al. 2020, PNAS 117, 7052; Apache-2.0): a ridge-regularised polynomial maps the
@@ -23,8 +23,6 @@ seed. Results are frozen dataclasses with ``summary()`` and ``to_dict()``.
 
 from __future__ import annotations
 
-from dataclasses import fields, is_dataclass
-
 import math
 from dataclasses import dataclass
 
@@ -32,19 +30,22 @@ import numpy as np
 from scipy.optimize import elementwise
 
 from filmscale.continuum.materials import modulus_from_reduced
-from filmscale.core.checks import MODULUS_MAX, check_choice, check_positive, check_real
-from filmscale.core.errors import InputError, ModelRangeError
-from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, HR_HM_VERIFIED,
-                                                               METHODS, N_RANGE,
+from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, E_I_DAO,
+                                                               HR_HM_VERIFIED, METHODS, N_RANGE,
                                                                N_SENSITIVITY_LIMIT, N_STD_LIMIT,
-                                                               SharpTip, WPWT_RANGE, _N_GRID,
+                                                               NU_I_DAO, WPWT_RANGE, _N_GRID,
                                                                _interpolation_note, _pi4_inverse,
-                                                               _pi5_inverse, dao_pi1, dao_pi2,
-                                                               dao_pi4, dao_pi5, loading_curvature,
-                                                               representative_stress, sharp_tip)
+                                                               _pi5_inverse, _SharpCalibration,
+                                                               dao_pi1, dao_pi2, dao_pi4, dao_pi5,
+                                                               loading_curvature,
+                                                               representative_stress,
+                                                               sharp_calibration)
 from filmscale.continuum.indentation.reverse.surrogate import _features, _surrogate
 from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _spread
-from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
+from filmscale.core.checks import (MODULUS_MAX, check_choice, check_int, check_positive,
+                                   check_real)
+from filmscale.core.errors import InputError, ModelRangeError
+from filmscale.core.jsonable import to_jsonable
 
 
 # --- validation helpers ---------------------------------------------------------------------
@@ -62,13 +63,6 @@ def _check_WpWt(name, value):
 
 def _check_std(name, value, unit=""):
     return check_real(name, value, low=0.0, high=math.inf, high_open=True, unit=unit)
-
-
-def _check_int(name, value, low, high):
-    x = check_real(name, value, low=low, high=high)
-    if x != int(x):
-        raise InputError(f"{name} = {value!r} must be an integer in [{low}, {high}]")
-    return int(x)
 
 
 def _indenter_compliance(E_i, nu_i):
@@ -105,25 +99,6 @@ def _summary_row(label, value, std, unit):
     return f"  {label:<12} {_fmt_value(value)} +- {_fmt_value(std, '.3g')} {unit}".rstrip()
 
 
-def _plain(value):
-    """JSON-able copy: floats (None for NaN), lists for arrays and tuples, dicts for results."""
-    if is_dataclass(value):
-        return {f.name: _plain(getattr(value, f.name)) for f in fields(value)}
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value.tolist()]
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if np.isfinite(value) else None
-    return value
-
-
 @dataclass(frozen=True)
 class ForwardResult:
     """Indentation response predicted by the Dao functions; SI units."""
@@ -143,7 +118,7 @@ class ForwardResult:
     warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        return _plain(self)
+        return to_jsonable(self)
 
     def summary(self) -> str:
         lines = [f"Sharp indentation, forward (Dao et al. 2001), tip {self.tip}, "
@@ -164,7 +139,7 @@ def dao_forward(E, nu, sigma_y, n, h_m, *, tip="berkovich", E_i=E_I_DAO, nu_i=NU
                 c_star=None) -> ForwardResult:
     """Predict C, dP/dh, W_p/W_t and h_r/h_m of a power-law solid (Dao et al. 2001).
 
-    Steps (physics.md section 10): E* from E, nu, E_i, nu_i; sigma_r at the tip's eps_r;
+    Steps (docs/physics.md section 10): E* from E, nu, E_i, nu_i; sigma_r at the tip's eps_r;
     C = sigma_r Pi1(x), x = ln(E*/sigma_r); dP/dh = E* h_m Pi2(x, n); A_m = (dP/dh / (c* E*))^2;
     p_ave = C h_m^2 / A_m; h_r/h_m = Pi4^-1(p_ave/E*); W_p/W_t = Pi5(h_r/h_m). Pi2, Pi4 and
     Pi5 hold for the 70.3 deg geometry only: other cones give C (and sigma_r) alone.
@@ -181,7 +156,7 @@ def dao_forward(E, nu, sigma_y, n, h_m, *, tip="berkovich", E_i=E_I_DAO, nu_i=NU
         Hardening exponent, calibrated on [0, 0.5].
     h_m : float
         Maximum depth, m.
-    tip : str or SharpTip
+    tip : str or Cone
         See `sharp_tip`.
     E_i, nu_i : float
         Indenter modulus (Pa; ``math.inf`` for a rigid one) and Poisson ratio.
@@ -200,7 +175,7 @@ def dao_forward(E, nu, sigma_y, n, h_m, *, tip="berkovich", E_i=E_I_DAO, nu_i=NU
     sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=E, low_open=True, unit="Pa")
     n = check_real("n", n, low=0.0, high=1.0, high_open=True)
     h_m = check_positive("h_m", h_m, "m")
-    tip = sharp_tip(tip)
+    tip = sharp_calibration(tip)
     if c_star is not None:
         c_star = check_positive("c_star", c_star)
     if n > N_RANGE[1]:
@@ -289,7 +264,7 @@ def _n_sensitivity(x, n):
         return 0.01 * np.abs(p) * np.maximum(1.0 / slope, (N_RANGE[1] - N_RANGE[0]) / span)
 
 
-def _pi1_x(CE, tip: SharpTip):
+def _pi1_x(CE, tip: _SharpCalibration):
     """x = ln(E*/sigma_r) solving Pi1(x) e^(-x) = C/E* in the tip's range; NaN where none."""
     lo, hi = tip.x_range
     f_lo = dao_pi1(lo, tip.pi1) * math.exp(-lo)
@@ -303,7 +278,7 @@ def _pi1_x(CE, tip: SharpTip):
     return x
 
 
-def _closed_form_core(C, S, W, hm, c_star, tip: SharpTip, model=None):
+def _closed_form_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
     """Dao's reverse steps on arrays: E*, x, h_r/h_m, failure code, fallback mask."""
     reason = np.zeros(C.shape, dtype=int)
     hr = _pi5_inverse(W)
@@ -316,7 +291,7 @@ def _closed_form_core(C, S, W, hm, c_star, tip: SharpTip, model=None):
     return E_star, x, hr, reason, np.zeros(C.shape, dtype=bool)
 
 
-def _surrogate_core(C, S, W, hm, c_star, tip: SharpTip, model=None):
+def _surrogate_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
     """The surrogate's E*; x from Dao's Pi1, or from the fallback regression of ln(sigma/C)
     where C/E* has no Pi1 root (flagged); h_r/h_m from Pi5 where it reaches."""
     model = _surrogate() if model is None else model
@@ -411,7 +386,7 @@ class ReverseResult:
     warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        return _plain(self)
+        return to_jsonable(self)
 
     def summary(self) -> str:
         lines = [f"Sharp-indentation reverse analysis ({self.method}), tip {self.tip}"
@@ -425,14 +400,10 @@ class ReverseResult:
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])
 
 
-def _check_method(method):
-    return check_choice("method", method, METHODS)
-
-
 def _reverse_setup(tip, c_star, nu, E_i, nu_i, method):
     nu, E_i, nu_i = _check_indenter(nu, E_i, nu_i)
-    method = _check_method(method)
-    tip = sharp_tip(tip)
+    method = check_choice("method", method, METHODS)
+    tip = sharp_calibration(tip)
     if c_star is not None:
         c_star = check_positive("c_star", c_star)
     if not tip.dao_functions:
@@ -480,7 +451,7 @@ def dao_reverse(C, dPdh, WpWt, h_m, *, tip="berkovich", nu=0.3, E_i=E_I_DAO, nu_
                 method="closed-form", samples=2000, seed=0) -> ReverseResult:
     """E*, sigma_r, n and sigma_Y from one sharp indentation (Dao et al. 2001).
 
-    Closed form (physics.md section 10): h_r/h_m = Pi5^-1(W_p/W_t);
+    Closed form (docs/physics.md section 10): h_r/h_m = Pi5^-1(W_p/W_t);
     A_m = (c* P_m / (Pi4 dP/dh))^2 with P_m = C h_m^2; E* = dP/dh / (c* sqrt(A_m));
     sigma_0.033 from C/sigma = Pi1(ln(E*/sigma)); n from Pi2(x, n) = dP/dh / (E* h_m) on
     [0, 0.5] (no root: the nearer bound, n = 0 wherever the data ask for less than no
@@ -499,7 +470,7 @@ def dao_reverse(C, dPdh, WpWt, h_m, *, tip="berkovich", nu=0.3, E_i=E_I_DAO, nu_
         Plastic to total work W_p/W_t, in (0, 1).
     h_m : float
         Maximum depth, m.
-    tip : str or SharpTip
+    tip : str or Cone
         "berkovich" or "cone:70.3" (the geometries of Pi2, Pi4, Pi5).
     nu : float
         Poisson ratio of the sample (only for E from E*).
@@ -529,8 +500,8 @@ def dao_reverse(C, dPdh, WpWt, h_m, *, tip="berkovich", nu=0.3, E_i=E_I_DAO, nu_
     hm = check_positive("h_m", h_m, "m")
     stds = (_check_std("C_std", C_std, "Pa"), _check_std("dPdh_std", dPdh_std, "N/m"),
             _check_std("WpWt_std", WpWt_std), _check_std("h_m_std", h_m_std, "m"))
-    samples = _check_int("samples", samples, 2, 10**7)
-    seed = _check_int("seed", seed, 0, 2**63 - 1)
+    samples = check_int("samples", samples, 2, 10**7)
+    seed = check_int("seed", seed, 0, 2**63 - 1)
     tip, cs, nu, E_i, nu_i, method = _reverse_setup(tip, c_star, nu, E_i, nu_i, method)
 
     def evaluate(c, s, w, h):

@@ -3,39 +3,37 @@ the package (data/dao2001, compiled by Lu et al. 2020, PNAS 117, 7052; Apache-2.
 
 from __future__ import annotations
 
-import csv
 import functools
 from importlib import resources
 
 import numpy as np
-from filmscale.continuum.indentation.reverse.functions import (EPS_R_DAO, representative_stress,
-                                                               sharp_tip)
+
+from filmscale.continuum.indentation.io import read_table
+from filmscale.continuum.indentation.reverse.functions import (EPS_R_DAO, FE_DEPTH, FE_NU,
+                                                               representative_stress,
+                                                               sharp_calibration)
 from filmscale.core.checks import check_choice
-from filmscale.continuum.indentation.reverse.functions import FE_DEPTH, FE_NU
 
 # --- packaged data ----------------------------------------------------------------------------
 
-#: column names of the packaged CSVs -> (key, factor to SI)
-_COLUMNS = {"Case": ("case", 1.0), "n": ("n", 1.0), "E (GPa)": ("E", 1e9),
-            "sy (GPa)": ("sigma_y", 1e9), "C (GPa)": ("C", 1e9), "dP/dh (N/m)": ("dPdh", 1.0),
-            "Wp/Wt": ("WpWt", 1.0), "E* (GPa)": ("E_star", 1e9), "hm (um)": ("h_m", 1e-6),
-            "s0.033 (GPa)": ("sigma_0.033", 1e9), "s0.066 (GPa)": ("sigma_0.066", 1e9),
-            "s0.1 (GPa)": ("sigma_0.1", 1e9)}
+#: column names of the packaged CSVs (units in the header: GPa, N/m, um) -> key
+_KEYS = {"Case": "case", "n": "n", "E": "E", "sy": "sigma_y", "C": "C", "dP/dh": "dPdh",
+         "Wp/Wt": "WpWt", "E*": "E_star", "hm": "h_m", "s0.033": "sigma_0.033",
+         "s0.066": "sigma_0.066", "s0.1": "sigma_0.1"}
 DATA_FILES = ("Berkovich.csv", "FEM_50deg.csv", "FEM_60deg.csv", "FEM_70deg.csv",
               "FEM_80deg.csv", "Al6061.csv")
 
 
 @functools.cache
-def _read_table(name: str) -> dict:
-    path = resources.files("filmscale.continuum.indentation.reverse") / "data" / "dao2001" / name
-    with path.open(newline="") as fh:
-        rows = list(csv.reader(fh))
-    header, body = rows[0], [r for r in rows[1:] if r]
+def _packaged_table(name: str) -> dict:
+    """Columns of a packaged file in SI by key, read-only (shared by every caller)."""
+    source = resources.files("filmscale.continuum.indentation.reverse") / "data" / "dao2001"
+    with resources.as_file(source / name) as path:
+        columns = read_table(path)
     cols = {}
-    for j, title in enumerate(header):
-        key, factor = _COLUMNS[title]
-        cols[key] = np.array([float(r[j]) if r[j].strip() else np.nan for r in body]) * factor
-        cols[key].flags.writeable = False
+    for title, values in columns.items():
+        cols[_KEYS[title]] = values
+        values.flags.writeable = False
     return cols
 
 
@@ -46,7 +44,7 @@ def dao2001_table(name: str) -> dict[str, np.ndarray]:
     sigma_0.033, sigma_0.066, sigma_0.1, n (Al6061.csv). Data: Lu et al. (2020), Apache-2.0.
     """
     check_choice("data file", name, DATA_FILES)
-    return {k: v.copy() for k, v in _read_table(name).items()}
+    return {k: v.copy() for k, v in _packaged_table(name).items()}
 
 
 #: FE files with C, dP/dh and W_p/W_t, their tip and c*
@@ -59,11 +57,11 @@ def _fe_cases() -> dict:
     parts = {k: [] for k in ("file", "case", "tip", "c_star", "n", "E", "sigma_y", "C", "dPdh",
                              "WpWt")}
     for name, tip in _FE_REVERSE_FILES:
-        t = _read_table(name)
+        t = _packaged_table(name)
         m = t["C"].size
         parts["file"] += [name] * m
         parts["tip"] += [tip] * m
-        parts["c_star"].append(np.full(m, sharp_tip(tip).c_star))
+        parts["c_star"].append(np.full(m, sharp_calibration(tip).c_star))
         for k in ("case", "n", "E", "sigma_y", "C", "dPdh", "WpWt"):
             parts[k].append(t[k])
     d = {k: (np.array(v) if k in ("file", "tip") else np.concatenate(v))

@@ -7,18 +7,22 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import elementwise
-from filmscale.continuum.indentation.reverse.dao import (_check_WpWt, _check_int, _check_std,
-                                                         _plain, _point_warnings, _raise_reason,
+
+from filmscale.continuum.indentation.reverse.dao import (_check_std, _check_WpWt,
+                                                         _point_warnings, _raise_reason,
                                                          _reverse_arrays, _reverse_setup,
                                                          _summary_row, yield_strength)
-from filmscale.continuum.indentation.reverse.functions import (N_RANGE, N_STD_LIMIT, _N_GRID,
+from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, N_RANGE, N_STD_LIMIT,
+                                                               NU_I_DAO, _N_GRID,
                                                                _interpolation_note,
                                                                loading_curvature,
-                                                               representative_stress, sharp_tip)
+                                                               representative_stress,
+                                                               sharp_calibration)
 from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _spread
-from filmscale.core.checks import check_positive
+from filmscale.core.checks import check_int, check_positive
 from filmscale.core.errors import ModelRangeError
-from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
+from filmscale.core.jsonable import to_jsonable
+
 
 # --- dual indenter --------------------------------------------------------------------------
 
@@ -48,7 +52,7 @@ class DualResult:
     warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        return _plain(self)
+        return to_jsonable(self)
 
     def summary(self) -> str:
         lines = [f"Dual-indenter reverse analysis ({self.method}), tips {self.tip} + {self.tip2}"
@@ -136,8 +140,9 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
         First tip's curve, as in `dao_reverse` (Pa, N/m, -, m).
     C2 : float
         Loading curvature P/h^2 of the second tip, Pa.
-    tip2 : str or SharpTip
-        Second tip: "cone:THETA" with THETA in [50, 80] deg, or a user-calibrated `SharpTip`.
+    tip2 : str or Cone
+        Second tip: "cone:THETA" with THETA in [50, 80] deg, or a `Cone` with its own
+        calibration (eps_r, pi1).
     tip, nu, E_i, nu_i, c_star, method, samples, seed
         As in `dao_reverse`.
     C_std, dPdh_std, WpWt_std, h_m_std, C2_std : float
@@ -159,10 +164,10 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
     stds = (_check_std("C_std", C_std, "Pa"), _check_std("dPdh_std", dPdh_std, "N/m"),
             _check_std("WpWt_std", WpWt_std), _check_std("h_m_std", h_m_std, "m"),
             _check_std("C2_std", C2_std, "Pa"))
-    samples = _check_int("samples", samples, 2, 10**7)
-    seed = _check_int("seed", seed, 0, 2**63 - 1)
+    samples = check_int("samples", samples, 2, 10**7)
+    seed = check_int("seed", seed, 0, 2**63 - 1)
     tip, cs, nu, E_i, nu_i, method = _reverse_setup(tip, c_star, nu, E_i, nu_i, method)
-    tip2 = sharp_tip(tip2)
+    tip2 = sharp_calibration(tip2)
     tip2._require_calibration()
     if abs(tip2.eps_r - tip.eps_r) < 1e-3:
         raise ModelRangeError(f"tips {tip.name} and {tip2.name} share eps_r = {tip.eps_r:.3g}: "

@@ -11,16 +11,16 @@ ratio from the residual depth ratio h_r/h_m.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import elementwise
 
-from filmscale.core.checks import check_positive, check_real
+from filmscale.continuum.indentation.tips import Cone, parse_tip
+from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError, ModelRangeError
 
-# --- constants of physics.md section 10 -----------------------------------------------------
+# --- constants of docs/physics.md section 10 -----------------------------------------------------
 
 #: Pi1 (Dao 2001): C / sigma_0.033 = A x^3 + B x^2 + C x + D with x = ln(E*/sigma_0.033)
 PI1_DAO = (-1.131, 13.635, -30.594, 29.267)
@@ -52,7 +52,7 @@ BERKOVICH_ANGLE = 70.3
 CUBE_CORNER_ANGLE = 42.28
 #: hardening exponents of the FE calibration; n is searched here
 N_RANGE = (0.0, 0.5)
-#: indenter of Dao's experiments (diamond); physics.md section 9 quotes 1141 GPa too
+#: indenter of Dao's experiments (diamond); docs/physics.md section 9 quotes 1141 GPa too
 E_I_DAO, NU_I_DAO = 1100e9, 0.07
 #: maximum depth and Poisson ratio of the packaged FE cases (rigid indenter): h_m = 0.2 um
 #: reproduces Pi2 on the 70-deg file to 0.4 % (median) with E* = E / (1 - 0.3^2)
@@ -152,35 +152,17 @@ def _pi1_range(coeffs) -> tuple[float, float]:
     return float(x[lo]), float(x[hi - 1])
 
 
-# --- tips -----------------------------------------------------------------------------------
+# --- tips and their calibration -------------------------------------------------------------
 
 @dataclass(frozen=True)
-class SharpTip:
-    """A sharp tip and its Pi1 calibration; build with `sharp_tip` or directly for user data.
+class _SharpCalibration:
+    """A sharp tip resolved for the numeric code: its Pi1 calibration, c*, and whether Dao's
+    Pi2, Pi4 and Pi5 apply. Built by `sharp_calibration` from a `Cone`.
 
-    Parameters
-    ----------
-    name : str
-        Label, e.g. "berkovich", "cone:60".
-    theta : float
-        Half-angle of the (equivalent) cone, deg.
-    eps_r : float or None
-        Representative plastic strain of the tip; None: uncalibrated.
-    pi1 : tuple of 4 floats or None
-        (A, B, C, D) of Pi1_theta = C / sigma_r = A x^3 + B x^2 + C x + D with
-        x = ln(E*/sigma_r). None with theta in [50, 80] deg: interpolated between the tabulated
-        angles (see `loading_curvature`); None otherwise: uncalibrated.
-    c_star : float or None
-        c* in dP/dh = c* E* sqrt(A_m).
-    x_range : tuple of 2 floats or None
-        Interval of x where Pi1 may be inverted; computed from `pi1` when None.
-    dao_functions : bool
-        True where Pi2, Pi4 and Pi5 (calibrated for 70.3 deg) apply: Berkovich and the 70.3 deg
-        cone. Only such tips support `dao_reverse`; the others give C alone.
-
-    A cube corner (42.28 deg) lies outside the calibrated 50-80 deg: ``sharp_tip("cube-corner")``
-    is uncalibrated, and using it raises `ModelRangeError` until the user supplies a
-    calibration, e.g. ``dataclasses.replace(sharp_tip("cube-corner"), eps_r=..., pi1=(...))``.
+    name: the tip's spec (``berkovich``, ``cone:60``); theta: half-angle of the (equivalent)
+    cone, deg; eps_r, pi1, c_star: as on `Cone` (None: uncalibrated); x_range: interval of
+    x = ln(E*/sigma_r) where Pi1 may be inverted (computed from pi1 when None);
+    dao_functions: True for Berkovich and the 70.3 deg cone, the geometry of Pi2, Pi4, Pi5.
     """
 
     name: str
@@ -192,27 +174,8 @@ class SharpTip:
     dao_functions: bool = False
 
     def __post_init__(self):
-        object.__setattr__(self, "theta", check_real("tip half-angle theta", self.theta, low=0.0,
-                                                     high=90.0, low_open=True, high_open=True,
-                                                     unit="deg"))
-        if self.eps_r is not None:
-            object.__setattr__(self, "eps_r", check_real("tip eps_r", self.eps_r, low=0.0,
-                                                         high=1.0, low_open=True))
-        if self.c_star is not None:
-            object.__setattr__(self, "c_star", check_positive("tip c_star", self.c_star))
-        if self.pi1 is not None:
-            coeffs = tuple(self.pi1) if isinstance(self.pi1, (tuple, list)) else ()
-            if len(coeffs) != 4:
-                raise InputError(f"tip pi1 must be 4 numbers (A, B, C, D), got {self.pi1!r}")
-            coeffs = tuple(check_real(f"tip pi1[{i}]", c) for i, c in enumerate(coeffs))
-            object.__setattr__(self, "pi1", coeffs)
-            if self.x_range is None:
-                object.__setattr__(self, "x_range", _pi1_range(coeffs))
-        if self.x_range is not None:
-            lo, hi = (check_real("tip x_range", v) for v in self.x_range)
-            if not lo < hi:
-                raise InputError(f"tip x_range = {self.x_range!r} must be increasing")
-            object.__setattr__(self, "x_range", (lo, hi))
+        if self.pi1 is not None and self.x_range is None:
+            object.__setattr__(self, "x_range", _pi1_range(self.pi1))
 
     @property
     def interpolated(self) -> bool:
@@ -227,54 +190,88 @@ class SharpTip:
                 "pi1 (dataclasses.replace(tip, eps_r=..., pi1=(A, B, C, D)))")
 
 
-def _tabulated_tips() -> dict[float, SharpTip]:
-    tips = {BERKOVICH_ANGLE: SharpTip(f"cone:{BERKOVICH_ANGLE:g}", BERKOVICH_ANGLE, EPS_R_DAO,
-                                      PI1_DAO, C_STAR_CONE,
-                                      tuple(math.log(r) for r in DAO_RATIO_RANGE), True)}
+def _tabulated_tips() -> dict[float, _SharpCalibration]:
+    tips = {BERKOVICH_ANGLE: _SharpCalibration(f"cone:{BERKOVICH_ANGLE:g}", BERKOVICH_ANGLE,
+                                               EPS_R_DAO, PI1_DAO, C_STAR_CONE,
+                                               tuple(math.log(r) for r in DAO_RATIO_RANGE), True)}
     for theta, coeffs in PI1_THETA.items():
-        tips[theta] = SharpTip(f"cone:{theta:g}", theta, float(representative_strain(theta)),
-                               coeffs, C_STAR_CONE)
+        tips[theta] = _SharpCalibration(f"cone:{theta:g}", theta,
+                                        float(representative_strain(theta)), coeffs, C_STAR_CONE)
     return dict(sorted(tips.items()))
 
 
 _TABULATED = _tabulated_tips()
+_SHARP_TIPS = "berkovich, cone:THETA (THETA in [50, 80] deg), cube-corner"
 
 
-def sharp_tip(spec) -> SharpTip:
-    """The `SharpTip` for ``spec``: "berkovich", "cone:THETA" (deg, 50-80) or "cube-corner".
+def sharp_tip(spec) -> Cone:
+    """The `Cone` for ``spec``: "berkovich", "cone:THETA" (deg, 50-80) or "cube-corner".
 
-    "berkovich": c* = 1.2370, eps_r = 0.033, Dao's Pi1 (equivalent cone 70.3 deg).
-    "cone:THETA": c* = 1.1957; 70.3 uses Dao's Pi1 and eps_r = 0.033; 50, 60 and 80 the
-    Chollacoop Pi1_theta with eps_r(theta); other angles interpolate (`loading_curvature`).
-    "cube-corner" (42.28 deg): uncalibrated (see `SharpTip`). A `SharpTip` passes through.
+    The tip of `parse_tip`, its calibration (eps_r, pi1, c_star) left None: the reverse
+    analysis then uses the published one (`sharp_calibration`). "berkovich": c* = 1.2370,
+    eps_r = 0.033, Dao's Pi1 (equivalent cone 70.3 deg). "cone:THETA": c* = 1.1957; 70.3 uses
+    Dao's Pi1 and eps_r = 0.033; 50, 60 and 80 the Chollacoop Pi1_theta with eps_r(theta);
+    other angles interpolate (`loading_curvature`). "cube-corner" (42.28 deg): uncalibrated,
+    and using it raises `ModelRangeError` until the user supplies a calibration, e.g.
+    ``dataclasses.replace(sharp_tip("cube-corner"), eps_r=..., pi1=(...))``. A `Cone` passes
+    through.
     """
-    if isinstance(spec, SharpTip):
+    if isinstance(spec, Cone):
         return spec
-    valid = "berkovich, cone:THETA (THETA in [50, 80] deg), cube-corner"
     if not isinstance(spec, str):
-        raise InputError(f"tip = {spec!r} is not one of: {valid}")
-    s = spec.strip().lower()
-    if s == "berkovich":
-        return replace(_TABULATED[BERKOVICH_ANGLE], name="berkovich", c_star=C_STAR_BERKOVICH)
-    if s in ("cube-corner", "cube_corner", "cubecorner"):
-        return SharpTip("cube-corner", CUBE_CORNER_ANGLE)
-    m = re.fullmatch(r"cone:\s*(\S+)", s)
-    if m is None:
-        raise InputError(f"tip = {spec!r} is not one of: {valid}")
+        raise InputError(f"tip = {spec!r} is not one of: {_SHARP_TIPS}")
+    text = spec.strip().lower()
+    text = {"cube_corner": "cube-corner", "cubecorner": "cube-corner"}.get(text, text)
     try:
-        theta = float(m.group(1))
-    except ValueError:
-        raise InputError(f"tip = {spec!r}: the cone half-angle must be a number of degrees, "
-                         f"as in cone:60") from None
-    theta = check_real(f"tip cone half-angle (tip = {spec!r})", theta, low=ANGLE_RANGE[0],
-                       high=ANGLE_RANGE[1], unit="deg")
-    if theta in _TABULATED:
-        return _TABULATED[theta]
-    return SharpTip(f"cone:{theta:g}", theta, float(representative_strain(theta)), None,
-                    C_STAR_CONE)
+        tip = parse_tip(text)
+    except InputError:
+        raise InputError(f"tip = {spec!r} is not one of: {_SHARP_TIPS}") from None
+    if not isinstance(tip, Cone):
+        raise InputError(f"tip = {spec!r} is not one of: {_SHARP_TIPS}")
+    if tip.tip_radius > 0:
+        raise InputError(f"tip = {spec!r} is a truncated cone: the reverse analysis takes a "
+                         f"sharp tip, one of: {_SHARP_TIPS}")
+    if tip.name == "cone":
+        check_real(f"tip cone half-angle (tip = {spec!r})", tip.half_angle_deg,
+                   low=ANGLE_RANGE[0], high=ANGLE_RANGE[1], unit="deg")
+    return tip
 
 
-def _direct_curvature(tip: SharpTip, E, E_star, sigma_y, n):
+def sharp_calibration(tip) -> _SharpCalibration:
+    """The calibration the reverse analysis uses for ``tip`` (text or `Cone`): the tip's own
+    eps_r, pi1 and c_star where given, the published ones for its angle elsewhere.
+
+    Raises
+    ------
+    InputError
+        ``tip`` is not a sharp tip (`sharp_tip`).
+    ModelRangeError
+        A truncated cone (tip_radius > 0): the Dao functions hold for sharp tips.
+    """
+    if isinstance(tip, _SharpCalibration):
+        return tip
+    cone = sharp_tip(tip)
+    if cone.tip_radius > 0:
+        raise ModelRangeError(f"tip {cone.spec} is truncated (tip_radius = {cone.tip_radius:g} "
+                              "m): the Dao/Chollacoop functions hold for sharp tips only")
+    theta = cone.half_angle_deg
+    if cone.name == "berkovich":
+        base = replace(_TABULATED[BERKOVICH_ANGLE], c_star=C_STAR_BERKOVICH)
+    elif theta in _TABULATED:
+        base = _TABULATED[theta]
+    elif ANGLE_RANGE[0] <= theta <= ANGLE_RANGE[1]:
+        base = _SharpCalibration(cone.spec, theta, float(representative_strain(theta)), None,
+                                 C_STAR_CONE)
+    else:
+        base = _SharpCalibration(cone.spec, theta)
+    own = cone.pi1 is not None
+    return replace(base, name=cone.spec, theta=theta,
+                   eps_r=base.eps_r if cone.eps_r is None else cone.eps_r,
+                   pi1=cone.pi1 if own else base.pi1, x_range=None if own else base.x_range,
+                   c_star=base.c_star if cone.c_star is None else cone.c_star)
+
+
+def _direct_curvature(tip: _SharpCalibration, E, E_star, sigma_y, n):
     s = representative_stress(E, sigma_y, n, tip.eps_r)
     x = np.log(E_star / s)
     ok = (x >= tip.x_range[0]) & (x <= tip.x_range[1])
@@ -293,7 +290,8 @@ def loading_curvature(tip, E, E_star, sigma_y, n):
 
     Parameters
     ----------
-    tip : str or SharpTip
+    tip : str or Cone
+        See `sharp_tip`; its calibration as in `sharp_calibration`.
     E : array_like
         Young's modulus of the sample, Pa.
     E_star : array_like
@@ -303,7 +301,7 @@ def loading_curvature(tip, E, E_star, sigma_y, n):
     n : array_like
         Hardening exponent.
     """
-    tip = sharp_tip(tip)
+    tip = sharp_calibration(tip)
     tip._require_calibration()
     if not tip.interpolated:
         return _direct_curvature(tip, E, E_star, sigma_y, n)
@@ -324,7 +322,7 @@ def _neighbours(theta) -> tuple[float, float]:
     return angles[hi - 1], angles[hi]
 
 
-def _interpolation_note(tip: SharpTip) -> tuple[str, ...]:
+def _interpolation_note(tip: _SharpCalibration) -> tuple[str, ...]:
     if not tip.interpolated:
         return ()
     ta, tb = _neighbours(tip.theta)

@@ -1,6 +1,6 @@
-"""HDF5 result files: datasets in SI with a ``units`` attribute, provenance as attributes,
-written atomically (a temporary file in the same folder, then a rename), so an interrupted
-write never leaves a half-written result behind."""
+"""Result files, HDF5 with SI datasets and unit attributes: the scene result of `filmscale run`,
+the impact maps of `filmscale impact-map` and the indentation results of
+`filmscale indent analyze`. Every file is written atomically and carries provenance."""
 
 from __future__ import annotations
 
@@ -9,10 +9,82 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+
+
+from filmscale.continuum.calibration.result import Calibration, CrossCheck
+from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.continuum.contact.impact import ImpactMaxima, STATUS_MESSAGES
 from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.workflows.plan import Plan
+from filmscale.workflows.scene import PipelineScene, Scene
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5
+from filmscale.core.provenance import provenance
+from filmscale.core.jsonable import dumps
+
+
+
+#: /2: ``cross_check`` of a calibrated layer is a list (one check per source)
+RESULT_FORMAT = "filmscale.scene_result/2"
+
+
+def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndarray]:
+    """Effective E_p and sigma_y of the stack against approach, for a sphere of radius R."""
+    depth = 3 * sum(l.thickness for l in scene.stack.layers) or 1e-8
+    delta = np.geomspace(depth * 1e-3, depth * 10, points)
+    E_p, sy, nu = StackProfile(scene.stack).properties(delta, R)
+    return {"delta": delta, "E_p": E_p, "sigma_y": sy, "nu": nu}
+
+
+def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
+                       calibrations: dict[int, Calibration],
+                       checks: dict[int, list[CrossCheck]],
+                       impact_path: Path,
+                       run_records: dict[str, dict]) -> Path:
+    """One HDF5 file: scene text, plan, calibrations (curves, fits, parameters), depth
+    profile, impact results; SI datasets with unit attributes; provenance attributes, with
+    each run unit's record as ``md_<layer>`` (LAMMPS version, potential checksum, seeds) or
+    ``particles_<layer>`` (LAMMPS version, method, particles, steps), ``..._<layer>_<i>`` for
+    the i-th of several sources of a layer. ``cross_check`` of a layer is a JSON list, one
+    check per source; each ``curve_<i>`` of a joint calibration names its ``source``."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    extra = {k: dumps(r) for k, r in run_records.items()}
+    with atomic_h5(out) as f:
+        f.attrs["format"] = RESULT_FORMAT
+        for k, v in provenance(scene=pipeline.source, **extra).items():
+            f.attrs[k] = v
+        f.create_dataset("scene", data=pipeline.text)
+        f.attrs["plan"] = dumps(plan.to_dict())
+        g = f.create_group("calibration")
+        for k, cal in calibrations.items():
+            c = g.create_group(str(k))
+            c.attrs["layer"] = cal.layer
+            c.attrs["calibration"] = dumps(cal.to_dict())
+            for name in ("E", "sigma_y", "n", "h_star"):
+                p = getattr(cal, name)
+                if p is None:
+                    continue
+                c.attrs[name] = p.value
+                c.attrs[f"{name}_std"] = p.std
+                c.attrs[f"{name}_identified"] = p.identified
+            c.attrs["cross_check"] = dumps([check.to_dict() for check in checks[k]])
+            for i, (h, P, F) in enumerate(cal.fitted_curves):
+                curve = c.create_group(f"curve_{i}")
+                if cal.curve_sources:
+                    curve.attrs["source"] = cal.curve_sources[i]
+                for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
+                    curve.create_dataset(name, data=data).attrs["units"] = unit
+        prof = profile_table(scene, scene.impactor.radius)
+        p = f.create_group("profile")
+        for name, unit in (("delta", "m"), ("E_p", "Pa"), ("sigma_y", "Pa"), ("nu", "1")):
+            p.create_dataset(name, data=prof[name]).attrs["units"] = unit
+        i = f.create_group("impact")
+        with np.load(impact_path / "impact.npz") as d:
+            for key in d.files:
+                i.create_dataset(key.replace("__", "/"), data=d[key])
+    return out
+
 
 
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
@@ -42,9 +114,9 @@ def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
                     continue
                 ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
                 ds.attrs["units"] = ImpactMaxima.UNITS.get(key, "1")
-            g.attrs["regime_names"] = json.dumps(list(maps[label].maxima.regime_names))
-            g.attrs["status_codes"] = json.dumps(STATUS_MESSAGES)
-            g.attrs["model"] = json.dumps(models.get(label, {}))
+            g.attrs["regime_names"] = dumps(list(maps[label].maxima.regime_names))
+            g.attrs["status_codes"] = dumps(STATUS_MESSAGES)
+            g.attrs["model"] = dumps(models.get(label, {}))
     return Path(path)
 
 
@@ -69,6 +141,8 @@ def read_impact_maps(path) -> tuple[dict[str, dict[str, np.ndarray]], dict]:
 
 
 INDENT_RESULTS_FORMAT = "filmscale.indent_results/1"
+
+
 #: unit of each numeric field of an Oliver-Pharr result
 INDENT_UNITS = {"E_r": "Pa", "H": "Pa", "h_c": "m", "S": "N/m", "A_c": "m^2", "P_max": "N",
                 "h_max": "m", "h_f": "m", "m": "1", "B": "N/m^m", "epsilon": "1", "beta": "1",
@@ -85,11 +159,11 @@ def write_indentation_results(path, records: list[dict], provenance: dict[str, s
         f.attrs["format"] = INDENT_RESULTS_FORMAT
         for key, value in provenance.items():
             f.attrs[key] = value
-        f.attrs["options"] = json.dumps(options)
+        f.attrs["options"] = dumps(options)
         text = h5py.string_dtype()
         f.create_dataset("name", data=[r["name"] for r in records], dtype=text)
         f.create_dataset("file", data=[r["file"] for r in records], dtype=text)
-        f.create_dataset("flags", data=[json.dumps(r.get("flags", [])) for r in records],
+        f.create_dataset("flags", data=[dumps(r.get("flags", [])) for r in records],
                          dtype=text)
         f.create_dataset("message", data=[r.get("message", "") for r in records], dtype=text)
         for key, unit in INDENT_UNITS.items():
@@ -98,15 +172,15 @@ def write_indentation_results(path, records: list[dict], provenance: dict[str, s
             f.create_dataset(key, data=values).attrs["units"] = unit
         if profile is not None:
             g = f.create_group("profile")
-            g.attrs["layer_names"] = json.dumps(profile["layer_names"])
+            g.attrs["layer_names"] = dumps(profile["layer_names"])
             g.create_dataset("interfaces", data=np.asarray(profile["interfaces"], dtype=float)
                              ).attrs["units"] = "m"
             for key, unit in (("h_c", "m"), ("E_r", "Pa"), ("H", "Pa"), ("E_r_std", "Pa"),
                               ("H_std", "Pa"), ("n", "1")):
                 g.create_dataset(f"group_{key}", data=profile["groups"][key]).attrs["units"] = unit
-            g.attrs["layers"] = json.dumps(profile["layers"])
+            g.attrs["layers"] = dumps(profile["layers"])
             if profile.get("nix_gao"):
-                g.attrs["nix_gao"] = json.dumps(profile["nix_gao"])
+                g.attrs["nix_gao"] = dumps(profile["nix_gao"])
     return Path(path)
 
 

@@ -1,0 +1,487 @@
+"""Particle continuum models in LAMMPS: the complete input file of a particle spec
+(`filmscale.md.particles`), TLSPH or PERI, and the timestep and step count it implies.
+
+The rigid indenter is LAMMPS's ``fix indent`` (a penalty contact: an atom inside the sphere or
+cone is pushed out with force K d^2). Quasi-static indentation drives it at constant speed
+(displacement control, load-hold-unload); an impact lets a free rigid sphere of mass m hit
+the target: a small unbonded particle cluster carries the sphere's mass, its height drives
+the indenter, and the indenter's reaction is applied to it, so the sphere decelerates and
+rebounds under the contact force.
+
+Numbers given to LAMMPS are in the ``particle`` unit system of `filmscale.md.units` (um, GPa,
+ns), converted here; everything here takes SI.
+"""
+
+from __future__ import annotations
+
+import math
+
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.continuum.indentation.tips import Cone, Sphere
+from filmscale.md.particles import (PERI_HORIZON, Grid, ParticleImpactSpec,
+                                    ParticleIndentSpec, ParticleMaterial)
+from filmscale.md.units import from_si
+
+#: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.
+TLSPH_KERNEL = 2.01
+#: CFL factor of ``fix smd/adjust_dt`` (the MACHDYN examples' 0.1).
+CFL = 0.1
+#: Penalty stiffness K of ``fix indent`` in units of the target's largest E*: an atom under a
+#: contact pressure p sits dx sqrt(p / (K_FACTOR E*)) inside the indenter, 4 % of dx at
+#: p = 0.2 E* (Hertz at 0.1 R depth).
+K_FACTOR = 100.0
+#: Artificial viscosity (linear, quadratic) and hourglass control of TLSPH (MACHDYN examples).
+TLSPH_Q1, TLSPH_Q2, TLSPH_HOURGLASS = 0.06, 0.0, 10.0
+#: Plastic strains between which a power-law hardening curve is matched by Johnson-Cook.
+JC_STRAINS = (0.033, 0.1)
+#: PERI timestep (fixed; PERI has no adaptive step) in spacings over the P-wave speed: 0.2 and
+#: 0.4 give the same curve within 1 %; 0.8 loses the contact and 1.2 blows up (R/8 runs).
+PERI_DT_FACTOR = 0.25
+
+#: The record a run writes (``fix print``) and its columns.
+RECORD = "particles.dat"
+INDENT_COLUMNS = ("time", "depth", "load", "apex")
+IMPACT_COLUMNS = ("time", "approach", "load", "velocity")
+
+
+def _num(x: float) -> str:
+    return f"{x:.10g}"
+
+
+def _u(value: float, dimension: str) -> str:
+    return _num(from_si(value, dimension, "particle"))
+
+
+def _clamp_min(a: str, b: str) -> str:
+    """min(a, b) as an equal-style formula (LAMMPS's min() takes no numbers)."""
+    return f"0.5*(({a})+({b})-abs(({a})-({b})))"
+
+
+def _block_lines(spec, n_types: int, top: float) -> list[str]:
+    """The lattice, the block region and a box reaching up to ``top`` (particle units):
+    the target's surface is z = 0 with a lattice point on the axis."""
+    g = spec.grid
+    dx = from_si(g.spacing, "length", "particle")
+    W = round(g.width / g.spacing) * dx
+    D = round(g.depth / g.spacing) * dx
+    lo = -0.5 * dx if g.quarter else -W - 0.5 * dx
+    xy = f"{_num(lo)} {_num(W + 0.5 * dx)} {_num(lo)} {_num(W + 0.5 * dx)}"
+    nx, ny, nz = g.counts()
+    return [
+        f"# ---- block: {nx} x {ny} x {nz} lattice points of spacing {g.spacing:g} m"
+        + (" (quarter model: symmetry planes x = 0 and y = 0)" if g.quarter else ""),
+        f"lattice sc {_num(dx)}",
+        f"region block block {xy} {_num(-D - 0.5 * dx)} {_num(0.5 * dx)} units box",
+        f"region world block {xy} {_num(-D - 0.5 * dx)} {_num(max(top, 0.5 * dx))} units box",
+        f"create_box {n_types} world",
+    ]
+
+
+def _weight_groups(grid: Grid, member: str) -> list[str]:
+    """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a quarter model the
+    particles on one symmetry plane own half a cell, those on the axis a quarter."""
+    if not grid.quarter:
+        return [f"group interior union {member}", "group plane empty", "group axis empty"]
+    dx = from_si(grid.spacing, "length", "particle")
+    h = _num(0.5 * dx)
+    return [
+        f"region xplane block INF {h} INF INF INF INF units box",
+        f"region yplane block INF INF INF {h} INF INF units box",
+        "group on_x region xplane",
+        "group on_y region yplane",
+        f"group axis intersect on_x on_y {member}",
+        "group plane_all union on_x on_y",
+        f"group plane_m intersect plane_all {member}",
+        "group plane subtract plane_m axis",
+        f"group interior subtract {member} plane axis",
+    ]
+
+
+def _indent_fix_lines(spec, K: float, geometry: str, scale: float = 1.0) -> list[str]:
+    """One ``fix indent`` per weight group (K times the weight) and the total load
+    ``v_load`` (mN, upward force on the indenter, times 4 in a quarter model). ``scale``
+    turns a fix's force into a force (the particle volume for PERI's force densities)."""
+    lines = []
+    terms = []
+    groups = (("interior", 1.0), ("plane", 0.5), ("axis", 0.25)) if spec.grid.quarter \
+        else (("interior", 1.0),)
+    for group, w in groups:
+        lines.append(f"fix ind_{group} {group} indent {_num(K * w / scale)} {geometry} "
+                     "units box")
+        terms.append(f"f_ind_{group}[3]")
+    mult = spec.grid.symmetry_factor * scale
+    lines.append(f"variable load equal {_num(mult)}*({'+'.join(terms)})")
+    return lines
+
+
+def _sphere_geometry(R: float, centre: str) -> str:
+    return f"sphere 0 0 {centre} {_num(R)}"
+
+
+def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
+    # fix indent needs radlo > 0: the apex is truncated at a radius of 1 % of a spacing
+    r0 = 0.01 * dx
+    r1 = r0 + height * math.tan(math.radians(tip.half_angle))
+    return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
+            f"v_{apex}_top")
+
+
+def _tlsph_material(m: ParticleMaterial) -> str:
+    mat = m.material
+    rho = from_si(m.density, "density", "particle")
+    E = from_si(mat.E, "pressure", "particle")
+    common = (f"*COMMON {_num(rho)} {_num(E)} {_num(mat.nu)} {TLSPH_Q1} {TLSPH_Q2} "
+              f"{TLSPH_HOURGLASS} 1.0")
+    if m.elastic:
+        strength = "*STRENGTH_LINEAR"
+    elif mat.n == 0.0:
+        strength = f"*STRENGTH_LINEAR_PLASTIC {_u(mat.sigma_y, 'pressure')} 0"
+    else:
+        A, B, N = johnson_cook_hardening(mat)
+        # no rate and no thermal term: C = 0 and the melting point far away
+        strength = (f"*JOHNSON_COOK {_u(A, 'pressure')} {_u(B, 'pressure')} {_num(N)} 0 1 "
+                    "0 1e30 1")
+    return f"{common} {strength} *EOS_LINEAR *END"
+
+
+def johnson_cook_hardening(mat: ElasticPlastic) -> tuple[float, float, float]:
+    """Johnson-Cook strain hardening A + B eps_p^N (Pa, Pa, -; Johnson & Cook 1983, without
+    its rate and thermal factors) matching the power law sigma_y (1 + E eps_p / sigma_y)^n
+    (Dao et al. 2001; docs/physics.md section 10) at A = sigma_y and at the plastic strains
+    `JC_STRAINS` (MACHDYN has no power-law hardening of that form)."""
+    sy, E, n = mat.sigma_y, mat.E, mat.n
+    e1, e2 = JC_STRAINS
+    d1, d2 = (sy * (1 + E * e / sy)**n - sy for e in (e1, e2))
+    N = math.log(d2 / d1) / math.log(e2 / e1)
+    return sy, d1 / e1**N, N
+
+
+def _header(spec, version: str) -> list[str]:
+    g = spec.grid
+    return [
+        f"# filmscale {version} particle model ({spec.method}): {spec.name}".replace("  ", " "),
+        f"# {g.n_particles} target particles, spacing {g.spacing:g} m",
+        "# units: LAMMPS 'si' carrying um, GPa, ns (mass pg, force mN, density pg/um^3);",
+        "#        filmscale.md.units.PARTICLE converts them",
+        f"# replay: lmp -in in.{spec.method}  (in this directory)",
+    ]
+
+
+def _impactor_top(spec, dx: float) -> float:
+    """Height of the box's top in an impact: above the cluster, which starts at the sphere
+    centre (particle units)."""
+    return from_si(spec.tip.R, "length", "particle") + 2.0 * dx
+
+
+def _impactor_lines(spec: ParticleImpactSpec, dx: float, create: str) -> list[str]:
+    """A 3 x 3 x 3 cluster, unbonded to the target, at the sphere centre's height above the
+    block's far corner (it never comes near the target): its height carries the sphere
+    centre, its mass the sphere's (a quarter in a quarter model)."""
+    g = spec.grid
+    W = round(g.width / g.spacing) * dx
+    x0 = W - dx
+    z0 = from_si(spec.tip.R, "length", "particle")
+    return [
+        "# ---- the impactor: an unbonded particle cluster carries the sphere's mass; its",
+        "#      height drives the indenter and the indenter's reaction drives it",
+        f"region imp block {_num(x0 - 1.5 * dx)} {_num(x0 + 1.5 * dx)} {_num(x0 - 1.5 * dx)} "
+        f"{_num(x0 + 1.5 * dx)} {_num(z0 - 1.5 * dx)} {_num(z0 + 1.5 * dx)} units box",
+        create,
+        "group imp region imp",
+    ]
+
+
+def _tlsph_input(spec, version: str) -> str:
+    impact = isinstance(spec, ParticleImpactSpec)
+    g = spec.grid
+    mat = spec.target.substrate
+    dx = from_si(g.spacing, "length", "particle")
+    D = round(g.depth / g.spacing) * dx
+    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = from_si(spec.target.reduced_modulus(), "pressure", "particle")
+    vol = dx**3
+    lines = [
+        *_header(spec, version),
+        "units si",
+        "dimension 3",
+        "boundary s s s    # TLSPH: periodic boundaries delete particles or blow up",
+        "atom_style smd",
+        "atom_modify map array",
+        "comm_modify vel yes",
+        "newton off",
+        f"neighbor {_num(0.5 * dx)} bin",
+        "neigh_modify every 10 delay 0 check yes",
+        *_block_lines(spec, 2 if impact else 1, _impactor_top(spec, dx) if impact else 0.0),
+        "create_atoms 1 region block",
+        "group target type 1",
+        "set group target mol 1",
+    ]
+    if impact:
+        # the cluster is type 2, outside TLSPH (pair none, integrated by nve): as a TLSPH
+        # body of 27 heavy particles it drifted into its zero-energy modes, and the
+        # particles TLSPH then failed lost their velocity (e = 0.88 at R/10)
+        lines += _impactor_lines(spec, dx, "create_atoms 2 region imp")
+        lines += ["set group imp mol 2", "group target subtract all imp"]
+    lines += [
+        *_weight_groups(g, "target"),
+        f"set group all volume {_num(vol)}",
+        f"set group plane volume {_num(vol / 2)}",
+        f"set group axis volume {_num(vol / 4)}",
+        f"set group all smd/mass/density {_u(mat.density, 'density')}",
+        f"set group all diameter {_num(TLSPH_KERNEL * dx)}",
+        f"set group all smd/contact/radius {_num(0.5 * dx)}",
+        "group tlsph type 1    # the name MACHDYN requires",
+        "",
+        "# ---- material (SI values converted to um, GPa, ns)",
+        *(["pair_style hybrid smd/tlsph", f"pair_coeff 1 1 smd/tlsph {_tlsph_material(mat)}",
+           "pair_coeff 1 2 none", "pair_coeff 2 2 none"] if impact else
+          ["pair_style smd/tlsph", f"pair_coeff 1 1 {_tlsph_material(mat)}"]),
+        "",
+        "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
+        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        "group base_all region base",
+        "group base intersect base_all target",
+        "fix base base smd/setvel 0 0 0",
+    ]
+    if g.quarter:
+        lines += ["group sym_x intersect on_x target", "group sym_y intersect on_y target",
+                  "fix sym_x sym_x smd/setvel 0 NULL NULL",
+                  "fix sym_y sym_y smd/setvel NULL 0 NULL"]
+    lines += [
+        f"fix dtfix all smd/adjust_dt {CFL}",
+        "fix integration tlsph smd/integrate_tlsph",
+        *(["fix impactor imp nve"] if impact else []),
+        "variable t equal f_dtfix    # simulated time (the timestep adapts)",
+        "compute stress all smd/tlsph/stress",
+        "compute ep all smd/plastic/strain",
+        "",
+    ]
+    K = K_FACTOR * E_star
+    if impact:
+        lines += _impact_driver(spec, dx, R, K)
+    else:
+        lines += _indent_driver(spec, dx, R, K, D)
+    lines += _run_lines(spec, "mol x y z c_stress[7] c_ep")
+    return _finish(spec, lines)
+
+
+def _finish(spec, lines: list[str]) -> str:
+    every = max(1, estimated_steps(spec) // 400)
+    return "\n".join(ln.replace("{every}", str(every)) for ln in lines) + "\n"
+
+
+def _record_row(impact: bool) -> str:
+    """One record line: the LAMMPS variables behind IMPACT_COLUMNS or INDENT_COLUMNS."""
+    names = ("t", "approach", "load", "vz") if impact else ("t", "depth", "load", "apex_z")
+    return " ".join(f"$(v_{n}:%.10g)" for n in names)
+
+
+def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
+                   D: float, scale: float = 1.0) -> list[str]:
+    p = spec.loading
+    v = from_si(p.speed, "velocity", "particle")
+    t1, t2, _ = (from_si(t, "time", "particle") for t in p.times)
+    down = _clamp_min("v_t", _num(t1))
+    up = f"0.5*((v_t-{_num(t2)})+abs(v_t-{_num(t2)}))"
+    lines = [
+        "# ---- displacement control: down at constant speed, hold, up",
+        f"variable depth equal {_num(v)}*({down})-{_num(v)}*({up})",
+    ]
+    if isinstance(spec.tip, Sphere):
+        lines.append(f"variable zc equal {_num(R)}-v_depth")
+        geometry = _sphere_geometry(R, "v_zc")
+    else:
+        height = D
+        lines += ["variable apex equal -v_depth", f"variable apex_top equal v_apex+{_num(height)}"]
+        geometry = _cone_geometry(spec.tip, "apex", height, dx)
+    lines += _indent_fix_lines(spec, K, geometry, scale)
+    lines += [
+        f"region apex sphere 0 0 0 {_num(0.25 * dx)} units box",
+        "group apex region apex",
+        "variable apex_z equal xcm(apex,z)    # the surface particle on the axis",
+        f'fix record all print {{every}} "{_record_row(False)}" file {RECORD} screen no '
+        f'title "# {" ".join(INDENT_COLUMNS)}"',
+        "thermo_style custom step dt v_t v_depth v_load",
+        "thermo_modify flush yes",
+    ]
+    return lines
+
+
+def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
+                   scale: float = 1.0, imp_mass_scale: float = 1.0) -> list[str]:
+    m = from_si(spec.mass, "mass", "particle") / spec.grid.symmetry_factor
+    V = from_si(spec.velocity, "velocity", "particle")
+    return [
+        "# ---- the free sphere: touching the surface at t = 0, moving down at V",
+        "variable n_imp equal count(imp)",
+        f"variable m_imp equal {_num(m * imp_mass_scale)}/v_n_imp",
+        "set group imp mass ${m_imp}",
+        "variable z_imp0 equal $(xcm(imp,z))",
+        f"variable zc equal {_num(R)}+xcm(imp,z)-v_z_imp0",
+        f"variable approach equal {_num(R)}-v_zc",
+        f"velocity imp set 0 0 {_num(-V)} units box",
+        *_indent_fix_lines(spec, K, _sphere_geometry(R, "v_zc"), scale),
+        "# the reaction on the sphere, spread over the cluster (defined after the indenter",
+        "# fixes, so that it reads their force of the same step)",
+        f"variable push equal v_load/{_num(spec.grid.symmetry_factor)}/v_n_imp"
+        + (f"/{_num(scale)}" if scale != 1.0 else ""),
+        "fix push imp addforce 0 0 v_push",
+        "variable vz equal vcm(imp,z)",
+        f'fix record all print {{every}} "{_record_row(True)}" file {RECORD} screen no '
+        f'title "# {" ".join(IMPACT_COLUMNS)}"',
+        "thermo_style custom step dt v_t v_approach v_load v_vz",
+        "thermo_modify flush yes",
+    ]
+
+
+def estimated_timestep(spec) -> float:
+    """The CFL timestep, s: CFL * kernel / P-wave speed for TLSPH (``smd/adjust_dt`` chose
+    0.75-1.0 of it in the R/8 runs), or the fixed PERI step. It sizes the record interval,
+    the snapshot interval and the step bound of the run, not the integration."""
+    c = max(m.wave_speed for m in spec.target.materials)
+    if spec.method == "tlsph":
+        return CFL * TLSPH_KERNEL * spec.grid.spacing / c
+    return PERI_DT_FACTOR * spec.grid.spacing / c
+
+
+def estimated_steps(spec) -> int:
+    end = spec.loading.times[2] if isinstance(spec, ParticleIndentSpec) else spec.end_time
+    return max(1, math.ceil(end / estimated_timestep(spec)))
+
+
+def _run_lines(spec, fields: str) -> list[str]:
+    """Record every ~1/400 of the run, snapshots ``frames`` times, stop at the end time
+    (a simulated time: the step count is a bound) or when the contact has ended."""
+    impact = isinstance(spec, ParticleImpactSpec)
+    steps = estimated_steps(spec)
+    frames = spec.frames if impact else spec.loading.frames
+    end = from_si(spec.end_time if impact else spec.loading.times[2], "time", "particle")
+    lines = [f"thermo {max(1, steps // 50)}"]
+    if frames:
+        lines.append(f"dump fields all custom {max(1, steps // frames)} fields.*.dump id type "
+                     f"{fields}")
+        lines.append("dump_modify fields first yes")
+    lines.append(f"variable finished equal v_t>={_num(end)}")
+    if impact:
+        # the sphere has left: moving up with no contact force
+        lines.append("variable stop equal v_finished+(v_vz>0)*(v_load<=0)")
+    else:
+        # or the tip has left the surface while unloading (a plastic residual impression
+        # would otherwise cost up to half the run)
+        t2 = from_si(spec.loading.times[1], "time", "particle")
+        lines.append(f"variable stop equal v_finished+(v_t>{_num(t2)})*(v_load<=0)")
+    # the state where the run halted closes the record (the halt test and the record
+    # interval differ, so the last recorded point may still carry load)
+    lines += [
+        "fix halt all halt 10 v_stop > 0.5 error continue message no",
+        f"run {3 * steps + 1000}",
+        f'print "{_record_row(impact)}" append {RECORD} screen no',
+        'print "finished $(v_t:%.10g)" file finished.txt screen no',
+    ]
+    return lines
+
+
+def input_text(spec, version: str = "") -> str:
+    """The complete LAMMPS input of ``spec`` (an indentation or an impact, either method)."""
+    if spec.method == "tlsph":
+        return _tlsph_input(spec, version)
+    return peri_input(spec, version)
+
+
+def _peri_coeff(m: ParticleMaterial, horizon: float) -> str:
+    """``K G horizon s00 alpha`` of peri/lps: bulk and shear modulus from E and nu; a critical
+    stretch s00 = 1 so that no bond breaks (the model is elastic)."""
+    E, nu = m.material.E, m.material.nu
+    K = E / (3 * (1 - 2 * nu))
+    G = E / (2 * (1 + nu))
+    return f"{_u(K, 'pressure')} {_u(G, 'pressure')} {_num(horizon)} 1.0 0.0"
+
+
+def peri_input(spec, version: str = "") -> str:
+    """The complete LAMMPS input of a peridynamic (peri/lps) indentation or impact.
+
+    PERI integrates force densities with rmass = density: ``fix indent``'s K is divided by
+    the particle volume V and its force multiplied by V (docs/lammps.md, particle traps)."""
+    impact = isinstance(spec, ParticleImpactSpec)
+    g = spec.grid
+    dx = from_si(g.spacing, "length", "particle")
+    D = round(g.depth / g.spacing) * dx
+    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
+                 for m in spec.target.materials)
+    vol = dx**3
+    horizon = PERI_HORIZON * dx
+    mats = spec.target.materials
+    n_types = len(mats)
+    lines = [
+        *_header(spec, version),
+        "units si",
+        "dimension 3",
+        "boundary s s s",
+        "atom_style peri",
+        "atom_modify map array",
+        f"neighbor {_num(0.5 * dx)} bin    # the SI default skin (1 mm) would be everything",
+        "neigh_modify every 1 delay 0 check yes",
+        *_block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
+        f"create_atoms {n_types} region block",
+    ]
+    # layers top first: type k for the lattice planes between the (k-1)-th and k-th
+    # interface; bounds half a spacing off the planes, so a film of thickness t gets
+    # round(t/dx) planes
+    top = 0.0
+    for k, (t, _) in enumerate(spec.target.films, start=1):
+        bottom = top - from_si(t, "length", "particle")
+        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
+                  f"{_num(top + 0.5 * dx)} units box",
+                  f"set region layer{k} type {k}"]
+        top = bottom
+    lines += ["group target union all"]
+    if impact:
+        lines += _impactor_lines(spec, dx, f"create_atoms {n_types} region imp")
+        lines += ["group target subtract all imp"]
+    lines += [
+        *_weight_groups(g, "target"),
+        f"set group all volume {_num(vol)}",
+        "",
+        "# ---- materials (SI values converted to um, GPa, ns); rmass is the density",
+    ]
+    for k, m in enumerate(mats, start=1):
+        lines.append(f"set type {k} density {_u(m.density, 'density')}")
+    if n_types == 1:
+        lines += ["pair_style peri/lps", f"pair_coeff 1 1 {_peri_coeff(mats[0], horizon)}"]
+    else:
+        # peri/lps takes each particle's own type for a bond and ignores the cross
+        # coefficients, so bonds across an interface break Newton's third law; the bond-based
+        # peri/pmb has true cross springs (harmonic mean of the two bulk moduli)
+        lines.append("pair_style peri/pmb")
+        for i in range(1, n_types + 1):
+            for j in range(i, n_types + 1):
+                Ki = mats[i - 1].material.E / (3 * (1 - 2 * mats[i - 1].material.nu))
+                Kj = mats[j - 1].material.E / (3 * (1 - 2 * mats[j - 1].material.nu))
+                K = from_si(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
+                spring = 18 * K / (math.pi * horizon**4)
+                lines.append(f"pair_coeff {i} {j} {_num(spring)} {_num(horizon)} 1.0 0.0")
+    c = max(m.wave_speed for m in mats)
+    dt = from_si(PERI_DT_FACTOR * g.spacing / c, "time", "particle")
+    lines += [
+        "",
+        "# ---- rigid base; fixed timestep (PERI has no adaptive step)",
+        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        "group base_all region base",
+        "group base intersect base_all target",
+        "velocity all set 0 0 0",
+        "fix integration all nve",
+        "fix base base setforce 0 0 0",
+        f"timestep {_num(dt)}",
+        "variable t equal time",
+        "compute damage all damage/atom",
+        "",
+    ]
+    K = K_FACTOR * E_star
+    if impact:
+        lines += _impact_driver(spec, dx, R, K, scale=vol, imp_mass_scale=1.0 / vol)
+    else:
+        lines += _indent_driver(spec, dx, R, K, D, scale=vol)
+    # the snapshot carries the bond damage (0 while elastic); PERI has no stress compute
+    lines += _run_lines(spec, "x y z c_damage")
+    return _finish(spec, lines)

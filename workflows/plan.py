@@ -1,0 +1,232 @@
+"""The planner: the cheapest models that answer a scene within its tolerance, each choice with
+its reason, estimated error and cost.
+
+Rules (docs/physics.md; benchmarks/impact_speed_vs_error.py):
+1. MD runs only for layers whose E or sigma_y is missing.
+2. Normal impact only with friction below 0.3, a normal approach and no tangential output;
+   anything else is refused (filmscale has no oblique impact model).
+3. The films are modelled (Gao-weighted profile) only where skipping them changes the
+   maxima by more than the tolerance at the scene's extreme points; otherwise the substrate
+   alone, with that change reported as the error of skipping them.
+4. The closed-form Hertz impact where no point yields; otherwise the elastic-plastic law.
+5. The fast maxima path (energy quadrature) unless time histories are asked for.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.continuum import ImpactModel
+from filmscale.continuum.materials import ElasticPlastic
+
+from filmscale.continuum.contact.laws import contact_law
+from filmscale.workflows.scene import CalibrationSource, PipelineScene, Scene, layer_sources
+from filmscale.core.errors import InputError
+
+
+
+FRICTION_LIMIT = 0.3
+
+
+#: MD throughput measured for the quick preset (14 336 atoms x 5 500 steps in 184 s on
+#: 2 ranks, README), atom-steps per second per rank: the cost estimate of an MD unit
+MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
+
+
+#: particle-model throughput (TLSPH, docs/lammps.md), particle-steps per second per core; PERI
+#: (peri/lps) is about 4 times slower per particle
+PARTICLE_STEPS_PER_CORE_S = 2.6e5
+
+
+PERI_SLOWDOWN = 4.0
+
+
+@dataclass(frozen=True)
+class Step:
+    """One model of the plan: what runs, why it was chosen, its error and cost."""
+
+    name: str
+    model: str
+    reason: str
+    error: str
+    cost_s: float
+
+
+@dataclass(frozen=True)
+class Plan:
+    steps: tuple[Step, ...]
+    decisions: dict = field(default_factory=dict)   #: target, law, path, points
+
+    def text(self) -> str:
+        lines = []
+        for i, s in enumerate(self.steps, 1):
+            cost = f"{s.cost_s:.3g} s" if math.isfinite(s.cost_s) else "after calibration"
+            lines += [f"{i}. {s.name}: {s.model}", f"   why:   {s.reason}",
+                      f"   error: {s.error}", f"   cost:  {cost}"]
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
+
+
+def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
+    """The plan step of one calibration source, its cost from measured throughputs;
+    ``joint``: one of several sources of its layer."""
+    fit = (f"then a calibration (sphere tips: least squares to the contact law; sharp tips: "
+           f"Dao reverse analysis) and a cross-scale check to {src.tolerance:.0%} rms")
+    spec = src.spec(base)
+    if src.kind == "md":
+        atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
+        cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np)
+        model = (f"MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, {src.np} "
+                 f"rank(s)) {fit}")
+    elif src.kind == "particles":
+        from filmscale.md.particle_inputs import estimated_steps
+        n, steps = spec.grid.n_particles, estimated_steps(spec)
+        rate = PARTICLE_STEPS_PER_CORE_S / (PERI_SLOWDOWN if spec.method == "peri" else 1)
+        cost = n * steps / (rate * src.np)
+        model = (f"particle-model indentation ({src.source[0]}: {spec.method}, {n} particles, "
+                 f"about {steps} steps, {src.np} rank(s)) {fit}")
+    else:
+        cost = 0.0
+        model = f"curves from {', '.join(src.source)} {fit}"
+    return Step(f"calibrate {src.name}" + (f" from {src.label}" if joint else ""), model,
+                "the layer's E and sigma_y are not given (rule 1)",
+                "the fit's own standard deviations, reported with the calibration", cost)
+
+
+def _joint_step(name: str, sources: list[CalibrationSource]) -> Step:
+    return Step(f"calibrate {name} jointly",
+                f"one Nix-Gao law of sigma_y over {', '.join(s.label for s in sources)} "
+                "(weighted least squares; E and n inverse-variance means); a cross-scale "
+                "check per source",
+                "the layer has several sources: nanometre and micrometre strengths both "
+                "reach the depth profile", "standard deviations of the joint fit", 0.0)
+
+
+def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
+    """The (V, R) points a decision must hold at: the scene's impact, and for a map its
+    four corners."""
+    V, R = [scene.impactor.velocity], [scene.impactor.radius]
+    if "map" in outputs:
+        v_axis, r_axis = scene.map.axes()
+        for v in (v_axis[0], v_axis[-1]):
+            for r in (r_axis[0], r_axis[-1]):
+                V.append(v)
+                R.append(r)
+    return np.array(V), np.array(R)
+
+
+def _timed(fn):
+    start = time.perf_counter()
+    value = fn()
+    return value, time.perf_counter() - start
+
+
+def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
+                angle: float = 0.0) -> Plan:
+    """Rules 2-5 on a complete scene."""
+    if friction >= FRICTION_LIMIT or angle > 0 or "tangential" in outputs:
+        raise InputError(
+            f"impactor.friction = {friction:g}, impactor.angle = {angle:g} deg, outputs "
+            f"{sorted(outputs)}: filmscale models normal impact only (friction below "
+            f"{FRICTION_LIMIT}, angle 0, no tangential output); an oblique model is not built")
+    steps = [Step("direction", "normal impact",
+                  f"friction {friction:g} < {FRICTION_LIMIT}, normal approach, no tangential "
+                  "output (rule 2)", "tangential traction neglected", 0.0)]
+    V, R = _points(scene, outputs)
+    m = scene.impactor.mass
+    law = scene.law
+    target = "layered"
+    full = scene.model().maxima(V, R, m)
+    if not np.any(np.isfinite(full.delta_max)):
+        raise InputError(f"impactor: at V = {V[0]:g} m/s, R = {R[0]:g} m, m = {m:g} kg (and "
+                         "the map's corners) the approach would exceed the sphere radius; "
+                         "no contact model holds there")
+    bare = full
+    if scene.stack.layers:
+        bare = scene.substrate_model().maxima(V, R, m)
+        change = float(np.nanmax(np.abs(np.r_[bare.delta_max / full.delta_max,
+                                               bare.force_max / full.force_max] - 1.0)))
+        depth = float(np.nanmax(full.delta_max))
+        if change <= tolerance:
+            target = "substrate"
+            steps.append(Step("target", f"substrate alone ({scene.stack.substrate.name})",
+                              f"skipping the films changes the maxima by {change:.2%} at "
+                              f"most, within the tolerance {tolerance:.0%} (rule 3)",
+                              f"{change:.2%} from the films left out", 0.0))
+        else:
+            steps.append(Step("target", "layered profile (Gao weighting, docs/physics.md s. 7)",
+                              f"the films change the maxima by up to {change:.1%} (deepest "
+                              f"approach {depth:.3g} m against "
+                              f"{sum(l.thickness for l in scene.stack.layers):.3g} m of "
+                              "film), above the tolerance (rule 3)",
+                              "the weighting's own (Gao 1992: a few % for moderate "
+                              "mismatch)", 0.0))
+    else:
+        target = "substrate"
+    check = bare if target == "substrate" else full
+    if np.any(check.yielded):
+        chosen = law
+        steps.append(Step("contact law", law.name,
+                          f"first yield is reached at {int(np.sum(check.yielded))} of "
+                          f"{V.size} checked points (rule 4)",
+                          "the law's own against FE (docs/physics.md)", 0.0))
+    else:
+        chosen = contact_law("hertz")
+        steps.append(Step("contact law", "Hertz (closed form)",
+                          f"no checked point reaches first yield (largest V {V.max():.3g} "
+                          f"m/s under V_Y = {float(np.nanmin(check.yield_velocity)):.3g} "
+                          "m/s) (rule 4)", "exact for an elastic contact", 0.0))
+    run_model = chosen_model(scene, target, chosen.name)
+    path = "time" if "history" in outputs else "fast"
+    count = 1
+    if "map" in outputs:
+        v_axis, r_axis = scene.map.axes()
+        count = v_axis.size * r_axis.size
+    if path == "time":
+        _, one = _timed(lambda: run_model.history(scene.impactor.velocity,
+                                                  scene.impactor.radius, m))
+        steps.append(Step("impact", "time integration (histories)",
+                          "time histories are asked for (rule 5)",
+                          f"rtol {scene.rtol:g}", one))
+    _, one = _timed(lambda: run_model.maxima(V[:1], R[:1], m))
+    steps.append(Step("impact", ("impact map " if "map" in outputs else "") +
+                      "fast maxima (energy quadrature)",
+                      "maxima, restitution and residual depth need no time history (rule 5)",
+                      "about 1e-11 relative (12-node quadrature)", one * count))
+    return Plan(tuple(steps), {"target": target, "law": chosen.name, "path": path,
+                               "map": "map" in outputs, "history": path == "time"})
+
+
+def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None,
+               h_star: dict[int, float] | None = None) -> Plan:
+    """The whole plan; impact steps wait for the calibrations unless all layers are known.
+    The calibration steps stay in the plan once done, so that the stored plan is complete."""
+    steps = []
+    for sources in layer_sources(pipeline).values():
+        steps += [_calibration_step(s, pipeline.base, len(sources) > 1) for s in sources]
+        if len(sources) > 1:
+            steps.append(_joint_step(sources[0].name, sources))
+    missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
+    if missing:
+        steps.append(Step("impact", "chosen after calibration",
+                          "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
+        return Plan(tuple(steps))
+    scene = pipeline.completed(calibrated or {}, h_star)
+    impact = plan_impact(scene, pipeline.outputs, pipeline.tolerance, pipeline.friction,
+                         pipeline.angle)
+    return Plan(tuple(steps) + impact.steps, impact.decisions)
+
+
+def chosen_model(scene: Scene, target: str, law: str) -> ImpactModel:
+    """The impact model the plan chose: ``target`` "substrate" or "layered", ``law`` the
+    scene's law or "hertz"."""
+    base = scene.substrate_model() if target == "substrate" else scene.model()
+    chosen = contact_law("hertz") if law == "hertz" else scene.law
+    return ImpactModel(base.target, chosen, scene.impactor.material, scene.unloading)

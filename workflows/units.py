@@ -1,0 +1,237 @@
+"""The unit store: every run unit of a scene (an MD or particle-model indentation, a
+calibration, the impact evaluation) lives in ``STORE/<kind>-<hash>``, the hash taken over its
+complete inputs and the code version. A finished unit holds ``done.json``; a rerun reuses it,
+and an interrupted unit resumes (an MD unit from its last restart file). Every file of a unit
+is written atomically."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import math
+import sys
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+
+from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
+from filmscale.continuum.calibration.result import Calibration
+from filmscale.continuum.calibration.sharp import with_size_effect
+from filmscale.continuum.calibration.sphere import calibrate_sphere
+from filmscale.workflows.plan import Plan, chosen_model
+from filmscale.workflows.scene import CalibrationSource, Scene
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_path
+from filmscale.core.provenance import provenance
+from filmscale.core.files import write_json
+
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    info = provenance()
+    return f"{info['filmscale_version']}+{info['source_revision']}"
+
+
+def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
+    """``store/<kind>-<16 hex>``, the hash over the kind, the inputs and the code version."""
+    blob = json.dumps({"kind": kind, "inputs": inputs, "code": code_version()},
+                      sort_keys=True, default=str)
+    return Path(store) / f"{kind}-{hashlib.sha256(blob.encode()).hexdigest()[:16]}"
+
+
+def done_record(path: Path) -> dict | None:
+    marker = path / "done.json"
+    return json.loads(marker.read_text()) if marker.exists() else None
+
+
+def finish_unit(path: Path, record: dict) -> dict:
+    write_json(path / "done.json", record, indent=None)
+    return record
+
+
+def say(message: str):
+    print(f"filmscale: {message}", file=sys.stderr, flush=True)
+
+
+def _progress_bar(total: int):
+    from tqdm import tqdm
+    bar = tqdm(total=total, unit="step", disable=None, file=sys.stderr)
+    return bar, lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
+
+
+def run_md(spec, path: Path, ranks: int):
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.record import run_provenance
+    from filmscale.md.run import run_indentation
+    bar, progress = _progress_bar(spec.protocol.schedule().s_end)
+    try:
+        run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)
+    finally:
+        bar.close()
+    return run.curve, {"wall_time": run.wall_time, **run_provenance(run)}
+
+
+def run_particle_model(spec, path: Path, ranks: int):
+    from filmscale.md.engine import EngineOptions, lammps_info
+    from filmscale.md.particle_run import run_particles
+    from filmscale.md.particle_inputs import estimated_steps
+    bar, progress = _progress_bar(estimated_steps(spec))
+    try:
+        run = run_particles(spec, path, EngineOptions(np=ranks, omp_threads=1),
+                            progress=progress)
+    finally:
+        bar.close()
+    return run.curve(), {"wall_time": run.wall_time, "steps": run.steps,
+                         "particles": spec.grid.n_particles, "method": spec.method,
+                         **lammps_info()}
+
+
+#: run-unit kind and runner of each run source
+_RUNNERS = {"md": ("md-indent", run_md), "particles": ("particle-indent", run_particle_model)}
+
+
+def run_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
+    """Run (or resume, or reuse) the MD or particle-model indentation of a source."""
+    kind, runner = _RUNNERS[src.kind]
+    spec = src.spec(base)
+    path = unit_dir(store, kind, {"spec": spec.to_dict(), "np": src.np})
+    if done_record(path) is not None:
+        return path, True
+    say(f"{kind} {spec.name} for {src.name} in {path}")
+    curve, record = runner(spec, path, src.np)
+    np.savez(path / "curve.npz", h=curve.h, P=curve.P, segment=curve.segment)
+    finish_unit(path, {"indenter": curve.indenter, **record})
+    return path, False
+
+
+def source_unit(src: CalibrationSource, base: Path, store: Path
+                ) -> tuple[Path | None, bool, list]:
+    """The source's run unit (None for curve files), whether it was reused, its curves."""
+    if src.kind == "curves":
+        return None, True, src.curves(base)
+    path, reused = run_unit(src, base, store)
+    return path, reused, [unit_curve(path)]
+
+
+def unit_curve(path: Path):
+    """The curve of a finished MD or particle unit."""
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+    d = np.load(path / "curve.npz")
+    meta = done_record(path)
+    return LoadDisplacementCurve(d["h"], d["P"], segment=d["segment"],
+                                 indenter=meta["indenter"], meta={"source": str(path)})
+
+
+def _file_digest(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _tip_counterpart(src: CalibrationSource):
+    """Tips of MD and particle runs are rigid; tips of curve files are taken as diamond:
+    (sphere indenter, sharp-tip E_i)."""
+    from filmscale.continuum.materials import DIAMOND
+    from filmscale.continuum.indentation.reverse.functions import E_I_DAO
+    return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
+
+
+def _sharp_tip(src: CalibrationSource, curves: list) -> str | None:
+    """The one sharp tip of the curves, or None when all are spheres."""
+    from filmscale.continuum.indentation.tips import Sphere, parse_tip
+    spheres = [isinstance(parse_tip(c.indenter), Sphere) for c in curves]
+    if all(spheres):
+        return None
+    tips = {c.indenter for c in curves}
+    if any(spheres) or len(tips) != 1:
+        raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
+                         f"({', '.join(sorted(tips))}); calibrate from one tip shape")
+    return tips.pop()
+
+
+def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
+                     ) -> Calibration:
+    """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis (with the Nix-Gao
+    length of sigma_y from three or more depths)."""
+    from filmscale.continuum.calibration.sharp import calibrate_sharp
+    indenter, E_i = _tip_counterpart(src)
+    tip = _sharp_tip(src, curves)
+    if tip is None:
+        return calibrate_sphere(curves, nu=nu, law=law, layer=src.name, indenter=indenter)
+    cal = calibrate_sharp(curves, nu=nu, tip=tip, layer=src.name, E_i=E_i)
+    depths = {round(float(np.max(c.h)), 12) for c in curves}
+    return with_size_effect(cal, curves, tip, E_i=E_i) if len(depths) >= 3 else cal
+
+
+def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, law: str
+                     ) -> CalibrationPart:
+    """A source's calibration as a joint calibration of its layer takes it."""
+    indenter, E_i = _tip_counterpart(src)
+    tip = _sharp_tip(src, curves)
+    if tip is None:
+        return sphere_part(src.label, cal, curves, law, indenter)
+    return sharp_part(src.label, cal, curves, tip, E_i=E_i)
+
+
+def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
+    """The calibration stored in unit ``path`` (reused), or ``compute()`` stored there."""
+    record = done_record(path)
+    reused = record is not None
+    if not reused:
+        path.mkdir(parents=True, exist_ok=True)
+        cal = compute()
+        fitted = {}
+        for i, (h, P, F) in enumerate(cal.fitted_curves):
+            fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
+        with atomic_path(path / "fit.npz") as tmp:
+            with open(tmp, "wb") as f:
+                np.savez(f, **fitted)
+        record = finish_unit(path, cal.to_dict())
+    with np.load(path / "fit.npz") as d:
+        fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
+                       for i in range(len(d.files) // 3))
+    return Calibration.from_dict(record, fitted), reused
+
+
+def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
+                     law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
+    """Calibrate (or reuse the calibration of) a source's curves."""
+    origin = run_path.name if run_path is not None else \
+        {f: _file_digest(Path(base) / f) for f in src.source}
+    path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
+                                          "layer": src.name, "tip": src.tip})
+    cal, reused = _stored_calibration(path, lambda: calibrate_curves(src, curves, nu, law))
+    return cal, path, reused
+
+
+def joint_unit(name: str, parts, part_units: list[Path], store: Path
+               ) -> tuple[Calibration, Path, bool]:
+    """The joint calibration of a layer from its sources' calibration units; ``parts()``
+    gives the `CalibrationPart` of each (built only when the unit runs)."""
+    path = unit_dir(store, "calibration-joint", {"layer": name,
+                                                 "parts": [p.name for p in part_units]})
+    cal, reused = _stored_calibration(path, lambda: combine(parts(), name))
+    return cal, path, reused
+
+
+def impact_evaluation(scene: Scene, plan: Plan, path: Path):
+    from filmscale.continuum.contact.impact_map import impact_map
+    model = chosen_model(scene, plan.decisions["target"], plan.decisions["law"])
+    imp = scene.impactor
+    one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
+    arrays = {f"point/{k}": v for k, v in asdict(one).items()
+              if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    if plan.decisions.get("history"):
+        hist = model.history(imp.velocity, imp.radius, imp.mass, rtol=scene.rtol)
+        arrays.update({f"history/{k}": getattr(hist, k)
+                       for k in ("time", "delta", "velocity", "force", "contact_radius")})
+    if plan.decisions.get("map"):
+        V, R = scene.map.axes()
+        mp = impact_map(model, V, R, imp.mass)
+        arrays.update({f"map/{k}": np.asarray(v) for k, v in mp.to_dict().items()
+                       if np.asarray(v).dtype.kind in "fiub"})
+    with atomic_path(path / "impact.npz") as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, **{k.replace("/", "__"): np.asarray(v) for k, v in arrays.items()})

@@ -11,14 +11,13 @@ import numpy as np
 from filmscale.continuum.indentation import OliverPharrResult, hertz_fit, oliver_pharr
 from filmscale.md.contact import ContactAnalysis, read_dumps
 from filmscale.md.elastic import ElasticConstants
-from filmscale.md.indentation import SphereIndenter
 from filmscale.md.run import IndentRun
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.spherical import detect_load_drop, pop_in_shear_stress
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.errors import InputError
-from filmscale.continuum.indentation.curves import LOAD, UNLOAD
 from filmscale.core.noise import noise_sigma
+from filmscale.continuum.indentation.curves import LOAD, UNLOAD
 
 #: Agreement between the Hertzian segment and E* of the potential's Hill-averaged elastic
 #: constants: an anisotropic crystal under a few-nm sphere departs from isotropic Hertz by
@@ -101,9 +100,9 @@ def _contact_at_end_of_hold(run: IndentRun):
     spec = run.spec
     s = spec.protocol.schedule()
     dumps = [path for step, path in run.dumps if step == s.s_unload]
-    if not dumps or not isinstance(spec.indenter, SphereIndenter):
+    if not dumps or not isinstance(spec.indenter.tip, Sphere):
         return None
-    R = spec.indenter.radius
+    R = spec.indenter.tip.R
     box = spec.slab_built.box
     gap = spec.protocol.gap
     universe = read_dumps(dumps)
@@ -130,8 +129,8 @@ def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
     nan = math.nan
     E_r = rms = shear = nan
     n_fit = 0
-    if isinstance(spec.indenter, SphereIndenter):
-        R = spec.indenter.radius
+    if isinstance(spec.indenter.tip, Sphere):
+        R = spec.indenter.tip.R
         end = drop.index + 1 if drop is not None else int(np.flatnonzero(
             curve.segment == LOAD)[-1]) + 1
         elastic_part = LoadDisplacementCurve(curve.h[:end], curve.P[:end],

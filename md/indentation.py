@@ -27,6 +27,7 @@ from filmscale.md.units import from_si, to_si
 from filmscale.potentials import Potential
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.continuum.indentation.tips import Cone, Sphere
 
 #: fix indent force constant, 10 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
 #: sqrt(F/K) = 0.32 A inside the nominal sphere (docs/lammps.md measured protocols use it).
@@ -41,69 +42,82 @@ def derive_seeds(master: int, names: tuple[str, ...], part: int = 0) -> dict[str
     return {name: int(s % (SEED_MAX - 1)) + 1 for name, s in zip(names, states)}
 
 
-@dataclass(frozen=True)
-class SphereIndenter:
-    """A rigid sphere of ``radius`` (m) acting through ``fix indent`` with the repulsion
-    F(r) = -K (r - R)^2 for r < R; ``K`` in N/m^2 (default 10 eV/A^3 = 1.6e12 N/m^2)."""
+def _radius(R) -> float:
+    return check_real("indenter.radius", R, low=2e-10, high=1e-6, unit="m")
 
-    radius: float
-    K: float = DEFAULT_K
 
-    def __post_init__(self):
-        check_real("indenter.radius", self.radius, low=2e-10, high=1e-6, unit="m")
-        check_real("indenter.K", self.K, low=1e9, high=1e15, unit="N/m^2")
-
-    @property
-    def label(self) -> str:
-        return f"sphere:{self.radius:.6g}"
-
-    def footprint_radius(self, depth: float) -> float:
-        """Radius of the sphere's cross-section at the surface plane, m."""
-        R = self.radius
-        return math.sqrt(max(0.0, 2.0 * R * depth - depth**2)) if depth < R else R
-
-    def fix_command(self, x: float, y: float) -> str:
-        """``fix indent`` (metal units, lengths in A) centred on v_z_tip + R."""
-        R = from_si(self.radius, "length")
-        return (f"variable z_center equal v_z_tip+{R:.10g}\n"
-                f"fix indenter all indent {from_si(self.K, 'indent_constant'):.10g} "
-                f"sphere {x:.10g} {y:.10g} v_z_center {R:.10g} units box")
+def _cone_geometry(half_angle, tip_radius) -> tuple[float, float]:
+    return (check_real("indenter.half_angle", half_angle, low=10.0, high=85.0, unit="deg"),
+            check_real("indenter.tip_radius", tip_radius, low=1e-11, high=1e-7, unit="m"))
 
 
 @dataclass(frozen=True)
-class ConeIndenter:
-    """A rigid cone of ``half_angle`` (degrees; 70.3 is the Berkovich equivalent), truncated
-    at the apex to a flat of ``tip_radius`` (m; LAMMPS needs a finite lower radius), through
-    ``fix indent cone``. ``K`` as for the sphere."""
+class RigidIndenter:
+    """The rigid indenter of an MD run: a continuum `Tip` acting through ``fix indent``.
 
-    half_angle: float = 70.3
-    tip_radius: float = 2e-10
+    ``tip`` is a `Sphere` of radius R (2e-10 to 1e-6 m) or a `Cone` of half-angle 10-85 deg
+    (70.3 is the Berkovich equivalent) whose apex is a flat of ``tip_radius`` 1e-11 to 1e-7 m
+    (``fix indent cone`` needs a finite lower radius). The same object goes with the run's
+    curve to the analysis, so a cone keeps its apex radius there. The repulsion is
+    F(r) = -K (r - R)^2 inside the surface; ``K`` in N/m^2 (default 10 eV/A^3 =
+    1.6e12 N/m^2); ``height`` is a cone's axial length (m), which must exceed depth + gap.
+    """
+
+    tip: Sphere | Cone
     K: float = DEFAULT_K
-    height: float = 5e-9     #: axial length of the cone, m; must exceed depth + gap
+    height: float = 5e-9
 
     def __post_init__(self):
-        check_real("indenter.half_angle", self.half_angle, low=10.0, high=85.0, unit="deg")
-        check_real("indenter.tip_radius", self.tip_radius, low=1e-11, high=1e-7, unit="m")
+        tip = self.tip
+        if isinstance(tip, Sphere):
+            _radius(tip.R)
+        elif isinstance(tip, Cone):
+            _cone_geometry(tip.half_angle, tip.tip_radius)
+        else:
+            raise InputError(f"indenter = {tip} must be a sphere or a cone")
         check_real("indenter.K", self.K, low=1e9, high=1e15, unit="N/m^2")
         check_positive("indenter.height", self.height, "m")
 
-    @property
-    def label(self) -> str:
-        return f"cone:{self.half_angle:.6g}"
+    @classmethod
+    def sphere(cls, radius, K=DEFAULT_K) -> RigidIndenter:
+        """A sphere of ``radius`` (m), checked before the tip is built."""
+        return cls(Sphere(_radius(radius)), K)
+
+    @classmethod
+    def cone(cls, half_angle=70.3, tip_radius=2e-10, K=DEFAULT_K, height=5e-9) -> RigidIndenter:
+        """A cone of ``half_angle`` (deg) with an apex flat of ``tip_radius`` (m)."""
+        theta, r0 = _cone_geometry(half_angle, tip_radius)
+        return cls(Cone(theta, tip_radius=r0), K, height)
 
     def footprint_radius(self, depth: float) -> float:
-        return self.tip_radius + max(depth, 0.0) * math.tan(math.radians(self.half_angle))
+        """Radius of the indenter's cross-section at the surface plane, m."""
+        tip = self.tip
+        if isinstance(tip, Sphere):
+            R = tip.R
+            return math.sqrt(max(0.0, 2.0 * R * depth - depth**2)) if depth < R else R
+        return tip.tip_radius + max(depth, 0.0) * math.tan(math.radians(tip.half_angle))
 
     def fix_command(self, x: float, y: float) -> str:
-        r0 = from_si(self.tip_radius, "length")
+        """``fix indent`` (metal units, lengths in A): a sphere centred on v_z_tip + R, or a
+        cone from v_z_tip (its apex flat) up to v_z_tip + height."""
+        K = from_si(self.K, "indent_constant")
+        tip = self.tip
+        if isinstance(tip, Sphere):
+            R = from_si(tip.R, "length")
+            return (f"variable z_center equal v_z_tip+{R:.10g}\n"
+                    f"fix indenter all indent {K:.10g} "
+                    f"sphere {x:.10g} {y:.10g} v_z_center {R:.10g} units box")
+        r0 = from_si(tip.tip_radius, "length")
         H = from_si(self.height, "length")
-        r1 = r0 + H * math.tan(math.radians(self.half_angle))
+        r1 = r0 + H * math.tan(math.radians(tip.half_angle))
         return (f"variable z_top equal v_z_tip+{H:.10g}\n"
-                f"fix indenter all indent {from_si(self.K, 'indent_constant'):.10g} "
+                f"fix indenter all indent {K:.10g} "
                 f"cone z {x:.10g} {y:.10g} {r0:.10g} {r1:.10g} v_z_tip v_z_top units box")
 
+    def to_dict(self) -> dict:
+        return {"tip": self.tip.spec, "K": self.K, "height": self.height}
 
-Indenter = SphereIndenter | ConeIndenter
+
 
 
 @dataclass(frozen=True)
@@ -214,7 +228,7 @@ class IndentSpec:
     name: str
     potential: Potential
     slab: SlabSpec
-    indenter: Indenter
+    indenter: RigidIndenter
     protocol: IndentProtocol
     slab_built: Slab | None = field(default=None, compare=False, repr=False)
 
@@ -240,8 +254,7 @@ class IndentSpec:
                 f"protocol.depth = {p.depth:.4g} m reaches below the mobile atoms "
                 f"({mobile:.4g} m of the slab above the thermostatted layer): thicken the "
                 "substrate or indent less deep")
-        if isinstance(self.indenter, ConeIndenter) and \
-                self.indenter.height <= p.depth + p.gap:
+        if isinstance(self.indenter.tip, Cone) and self.indenter.height <= p.depth + p.gap:
             raise InputError(f"indenter.height = {self.indenter.height:.4g} m must exceed "
                              f"depth + gap = {p.depth + p.gap:.4g} m")
 
@@ -252,8 +265,7 @@ class IndentSpec:
 
     def to_dict(self) -> dict:
         return {"name": self.name, "potential": self.potential.to_dict(),
-                "slab": asdict(self.slab), "indenter": {"kind": type(self.indenter).__name__,
-                                                         **asdict(self.indenter)},
+                "slab": asdict(self.slab), "indenter": self.indenter.to_dict(),
                 "protocol": asdict(self.protocol)}
 
     def with_protocol(self, **changes) -> IndentSpec:

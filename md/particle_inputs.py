@@ -119,8 +119,9 @@ def _sphere_geometry(R: float, centre: str) -> str:
 
 
 def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
-    # fix indent needs radlo > 0: the apex is truncated at a radius of 1 % of a spacing
-    r0 = 0.01 * dx
+    # the tip's own apex flat; fix indent needs radlo > 0, so a sharp tip is truncated at
+    # a radius of 1 % of a spacing
+    r0 = from_si(tip.tip_radius, "length", "particle") if tip.tip_radius > 0 else 0.01 * dx
     r1 = r0 + height * math.tan(math.radians(tip.half_angle))
     return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
             f"v_{apex}_top")

@@ -91,7 +91,7 @@ class ParticleRun:
             segment = np.where(np.arange(self.time.size) <= int(np.argmax(self.depth)),
                                LOAD, UNLOAD)
         return LoadDisplacementCurve(
-            h=self.depth, P=self.load, t=self.time, segment=segment, indenter=spec.tip.spec,
+            h=self.depth, P=self.load, t=self.time, segment=segment, indenter=spec.tip,
             meta={"source": f"filmscale.md particle model ({spec.method})", "name": spec.name,
                   "run_dir": str(self.run_dir)})
 

@@ -168,7 +168,7 @@ def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
     curve = LoadDisplacementCurve(
         h=to_si(col["depth"], "length"), P=to_si(col["load"], "force"),
         t=to_si(col["time"], "time"), segment=schedule.segment(steps),
-        indenter=spec.indenter.label,
+        indenter=spec.indenter.tip,
         meta={"source": "filmscale.md atomistic indentation", "name": spec.name,
               "run_dir": str(run_dir), "potential": spec.potential.name,
               "potential_sha256": spec.potential.sha256})

@@ -32,8 +32,7 @@ import copy
 import tomllib
 from pathlib import Path
 
-from filmscale.md.indentation import (ConeIndenter, IndentProtocol, IndentSpec,
-                                      SphereIndenter)
+from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
 from filmscale.core.checks import check_keys, check_table, required
@@ -111,12 +110,12 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
     indenter = dict(check_table("indenter", data["indenter"]))
     shape = indenter.pop("shape", "sphere")
     if shape == "sphere":
-        check_keys("indenter", indenter, {"shape", "radius", "K"})
+        check_keys("indenter", indenter, {"radius", "K"})
         required("indenter", indenter, "radius")
-        tip = SphereIndenter(**indenter)
+        indenter = RigidIndenter.sphere(**indenter)
     elif shape == "cone":
-        check_keys("indenter", indenter, {"shape", "half_angle", "tip_radius", "K", "height"})
-        tip = ConeIndenter(**indenter)
+        check_keys("indenter", indenter, {"half_angle", "tip_radius", "K", "height"})
+        indenter = RigidIndenter.cone(**indenter)
     else:
         raise InputError(f"indenter.shape = {shape!r} must be sphere or cone")
     protocol = dict(check_table("protocol", data["protocol"]))
@@ -126,7 +125,7 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
         proto = IndentProtocol(**protocol)
     except TypeError as exc:
         raise InputError(f"protocol: {exc}") from None
-    return IndentSpec(str(data["name"]), potential, slab_spec, tip, proto)
+    return IndentSpec(str(data["name"]), potential, slab_spec, indenter, proto)
 
 
 def load_spec(path: Path | str) -> IndentSpec:

@@ -6,7 +6,7 @@ scene (`pipeline`), result files (`result`), the HTML report and figure (`report
 first use, so that the command line starts without loading matplotlib or LAMMPS.
 """
 
-from importlib import import_module
+from filmscale.core.lazy import lazy_exports
 
 #: public name -> the module that defines it
 _WHERE = {
@@ -25,14 +25,4 @@ _WHERE = {
 
 __all__ = sorted(_WHERE)
 
-
-def __getattr__(name: str):
-    if name not in _WHERE:
-        raise AttributeError(f"module 'filmscale.workflows' has no attribute {name!r}")
-    value = getattr(import_module(f"filmscale.workflows.{_WHERE[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -49,8 +49,9 @@ def _tip(spec: str, area_file: str | None, _modified: int):
     return read_area_function(area_file, tip) if area_file else tip
 
 
-def resolve_tip(options: AnalysisOptions, curve_indenter: str = ""):
-    """The tip for a curve: the option's, else the curve's own; InputError when neither."""
+def resolve_tip(options: AnalysisOptions, curve_indenter=None):
+    """The tip for a curve: the option's (text), else the curve's own (a `Tip`); InputError
+    when neither."""
     spec = options.tip or curve_indenter
     if not spec:
         raise InputError("the curve does not name its indenter: give --tip")

@@ -27,6 +27,7 @@ from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.provenance import provenance
 from filmscale.core.files import write_json
+from filmscale.continuum.indentation.tips import Sphere
 
 
 
@@ -104,7 +105,7 @@ def run_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, boo
     say(f"{kind} {spec.name} for {src.name} in {path}")
     curve, record = runner(spec, path, src.np)
     np.savez(path / "curve.npz", h=curve.h, P=curve.P, segment=curve.segment)
-    finish_unit(path, {"indenter": curve.indenter, **record})
+    finish_unit(path, {"indenter": curve.indenter.spec, **record})
     return path, False
 
 
@@ -138,16 +139,16 @@ def _tip_counterpart(src: CalibrationSource):
     return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
 
 
-def _sharp_tip(src: CalibrationSource, curves: list) -> str | None:
+def _sharp_tip(src: CalibrationSource, curves: list):
     """The one sharp tip of the curves, or None when all are spheres."""
-    from filmscale.continuum.indentation.tips import Sphere, parse_tip
-    spheres = [isinstance(parse_tip(c.indenter), Sphere) for c in curves]
+    spheres = [isinstance(c.indenter, Sphere) for c in curves]
     if all(spheres):
         return None
     tips = {c.indenter for c in curves}
     if any(spheres) or len(tips) != 1:
         raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
-                         f"({', '.join(sorted(tips))}); calibrate from one tip shape")
+                         f"({', '.join(sorted(map(str, tips)))}); calibrate from one tip "
+                         "shape")
     return tips.pop()
 
 

@@ -31,7 +31,7 @@ from scipy.stats import f as f_dist
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.spherical import hertz_fit, loading_points
-from filmscale.continuum.indentation.tips import Sphere, parse_tip
+from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
@@ -42,11 +42,11 @@ from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
 def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
     if R is not None:
         return check_real("R", R, low=0.0, low_open=True, high=1.0, unit="m")
-    tip = parse_tip(curve.indenter) if curve.indenter else None
-    if not isinstance(tip, Sphere):
+    if not isinstance(curve.indenter, Sphere):
         raise InputError(f"curve {curve.meta.get('source', '')!r} has indenter "
-                         f"{curve.indenter!r}: give R (m) for a spherical calibration")
-    return tip.R
+                         f"{curve.indenter or 'unknown'}: give R (m) for a spherical "
+                         "calibration")
+    return curve.indenter.R
 
 
 def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",

@@ -24,6 +24,8 @@ from scipy.signal import savgol_coeffs
 from filmscale.core.checks import check_float_array, check_positive, check_real
 from filmscale.core.errors import InputError
 
+from .tips import Tip, parse_tip
+
 
 LOAD, HOLD, UNLOAD = 0, 1, 2
 SEGMENT_NAMES = ("load", "hold", "unload")
@@ -60,9 +62,11 @@ class LoadDisplacementCurve:
         Time, s.
     segment : array_like or None
         Per-point label: 0/'load', 1/'hold', 2/'unload'. Detected from the load rate when None.
-    indenter : str
-        The tip, in the text form of `filmscale.continuum.indentation.tips.parse_tip`
-        (``berkovich``, ``sphere:5um``, ...); empty when unknown.
+    indenter : Tip, str or None
+        The tip that made the curve, as a `filmscale.continuum.indentation.tips.Tip` (text
+        such as ``berkovich`` or ``sphere:5um`` is parsed with `parse_tip`); None when
+        unknown. MD and particle runs hand over their tip object, so a cone keeps its apex
+        radius.
     meta : mapping
         Provenance: source file, instrument or simulation inputs, seeds, versions.
 
@@ -74,7 +78,7 @@ class LoadDisplacementCurve:
     P: np.ndarray
     t: np.ndarray | None = None
     segment: np.ndarray | None = None
-    indenter: str = ""
+    indenter: Tip | None = None
     meta: MappingProxyType = field(default_factory=dict)
 
     def __post_init__(self):
@@ -98,6 +102,7 @@ class LoadDisplacementCurve:
         seg.setflags(write=False)
         object.__setattr__(self, "segment", seg)
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+        object.__setattr__(self, "indenter", parse_tip(self.indenter) if self.indenter else None)
 
     def __len__(self) -> int:
         return self.h.size
@@ -177,7 +182,8 @@ class LoadDisplacementCurve:
         return {"h": self.h.tolist(), "P": self.P.tolist(),
                 "t": None if self.t is None else self.t.tolist(),
                 "segment": [SEGMENT_NAMES[s] for s in self.segment],
-                "indenter": self.indenter, "meta": dict(self.meta)}
+                "indenter": self.indenter.spec if self.indenter else "",
+                "meta": dict(self.meta)}
 
 
 def _column(name, values) -> np.ndarray:
@@ -485,6 +491,6 @@ def synthetic_curve(E_r, H, tip, *, h_c, m=1.5, epsilon=None, beta=None, n_load=
     seg = np.concatenate([np.full(n_load, LOAD), np.full(n_hold, HOLD),
                           np.full(n_unload, UNLOAD)])
     return LoadDisplacementCurve(np.concatenate([h_load, h_hold, h_unl]), P, t, seg,
-                                 indenter=tip.spec,
+                                 indenter=tip,
                                  meta={"synthetic": True, "E_r": E_r, "H": H, "h_c": h_c,
                                        "m": m, "seed": seed})

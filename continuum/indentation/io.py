@@ -186,7 +186,7 @@ def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
         if values is not None:
             group.create_dataset(name, data=values).attrs["units"] = unit
     group.create_dataset("segment", data=curve.segment).attrs["labels"] = "0 load, 1 hold, 2 unload"
-    group.attrs["indenter"] = curve.indenter
+    group.attrs["indenter"] = curve.indenter.spec if curve.indenter else ""
     group.attrs["meta"] = json.dumps(dict(curve.meta), default=str)
 
 

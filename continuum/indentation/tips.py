@@ -101,6 +101,10 @@ class Tip:
         return {"tip": self.spec, "epsilon": self.epsilon, "beta": self.beta,
                 "half_angle": self.half_angle}
 
+    def __str__(self) -> str:
+        """The text form `parse_tip` reads back (``sphere:5e-06``, ``berkovich``, ...)."""
+        return self.spec
+
 
 def _depth(h_c):
     return np.clip(np.asarray(h_c, dtype=float), 0.0, None)

@@ -114,3 +114,34 @@ def test_cone_indenter_input_uses_fix_indent_cone():
     # the cone widens by tan(70.3 deg) per unit height over its 50 A height
     assert float(r_hi) - float(r_lo) == pytest.approx(50.0 * math.tan(half), rel=1e-9)
     assert (lo, hi) == ("v_z_tip", "v_z_top")
+
+
+def test_md_cone_reaches_the_analysis_as_a_tip_object_with_its_apex_radius(tmp_path):
+    """One indenter type crosses scales: the MD cone is a continuum `Cone` whose apex flat is
+    the radius `fix indent cone` gets (2 A here), and a curve carrying it keeps that radius
+    through a curve file; its contact area at zero depth is the flat's, pi r0^2."""
+    from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.io import read_curves, write_curve_group
+    from filmscale.continuum.indentation.tips import Cone
+    from filmscale.core.files import atomic_h5
+
+    spec = _spec(indenter={"shape": "cone", "half_angle": 70.3, "tip_radius": 2e-10})
+    tip = spec.indenter.tip
+    assert isinstance(tip, Cone) and tip.tip_radius == 2e-10 and tip.half_angle == 70.3
+    r_lo = re.search(r"cone z \S+ \S+ (\S+) ", indentation_input(spec)).group(1)
+    assert float(r_lo) == pytest.approx(2.0, rel=1e-12)          # A
+    assert float(tip.area(0.0)) == pytest.approx(math.pi * (2e-10)**2, rel=1e-12)
+    h = np.linspace(0.0, 1e-9, 20)
+    curve = LoadDisplacementCurve(h, 1e-6 * h, segment=np.zeros(h.size, int), indenter=tip)
+    with atomic_h5(tmp_path / "c.h5") as f:
+        write_curve_group(f.create_group("md"), curve)
+    assert read_curves(tmp_path / "c.h5")["md"].indenter == tip
+
+
+def test_bad_cone_geometry_is_named_before_any_input():
+    with pytest.raises(InputError, match="indenter.tip_radius"):
+        _spec(indenter={"shape": "cone", "half_angle": 70.3, "tip_radius": 0.0})
+    with pytest.raises(InputError, match="indenter.half_angle"):
+        _spec(indenter={"shape": "cone", "half_angle": 89.0})
+    with pytest.raises(InputError, match="indenter.radius"):
+        _spec(indenter={"radius": 5e-6})

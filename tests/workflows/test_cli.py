@@ -208,3 +208,35 @@ def test_json_output_is_strict_json_with_null_for_missing_values(tmp_path, capsy
     summary = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-JSON constant {c}"))
     assert summary["layered"]["delta_max"] is None
     assert summary["layered"]["out_of_range"] == 9
+
+
+def test_version_option_prints_the_package_version(capsys):
+    from filmscale import __version__
+    with pytest.raises(SystemExit) as exit_:
+        main(["--version"])
+    assert exit_.value.code == 0
+    assert capsys.readouterr().out.strip() == f"filmscale {__version__}"
+    done = subprocess.run([sys.executable, "-m", "filmscale", "--version"], capture_output=True,
+                          text=True)
+    assert done.returncode == 0 and done.stdout.strip() == f"filmscale {__version__}"
+
+
+def test_each_error_kind_exits_with_its_code_in_one_line(monkeypatch, capsys, tmp_path):
+    """InputError 2, ModelRangeError and EngineError 1, an unexpected defect 1 with one line
+    and no traceback (FILMSCALE_DEBUG=1 shows it)."""
+    from filmscale.core.errors import EngineError, InputError, ModelRangeError
+    from filmscale.workflows import cli
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(HERTZ_SCENE)
+    for error, code in ((InputError("radius = 10 m"), 2), (ModelRangeError("delta > R"), 1),
+                        (EngineError("LAMMPS: lost atoms"), 1), (ZeroDivisionError("x"), 1)):
+        def fail(args, error=error):
+            raise error
+        monkeypatch.setattr(cli, "cmd_impact", fail)
+        assert cli.main(["impact", str(scene)]) == code
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "Traceback" not in err and str(error) in err
+    monkeypatch.setenv("FILMSCALE_DEBUG", "1")
+    with pytest.raises(ZeroDivisionError):
+        cli.main(["impact", str(scene)])

@@ -22,9 +22,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .materials import ElasticPlastic, reduced_modulus as _reduced_modulus
 from filmscale.core.checks import check_float_array, check_real
 from filmscale.core.errors import InputError
+
+from .materials import ElasticPlastic
+from .materials import reduced_modulus as _reduced_modulus
 
 #: smallest eigenvalue of an accepted stiffness, relative to the largest: below it C is
 #: singular to working precision and S = C^-1 (hence the Reuss bound) is meaningless

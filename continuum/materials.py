@@ -11,9 +11,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from filmscale.core.checks import MODULUS_MAX, THICKNESS_MAX, check_real
 from filmscale.core.errors import InputError
-
 
 
 @dataclass(frozen=True)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from filmscale import __version__
-
 import platform
 import subprocess
 import sys
@@ -12,6 +10,7 @@ from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
 
+from filmscale import __version__
 
 
 def _version(dist: str) -> str:

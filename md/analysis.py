@@ -9,15 +9,14 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from filmscale.continuum.indentation import OliverPharrResult, hertz_fit, oliver_pharr
-from filmscale.md.contact import ContactAnalysis, read_dumps
-from filmscale.md.elastic import ElasticConstants
-from filmscale.md.run import IndentRun
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.curves import LOAD, UNLOAD, LoadDisplacementCurve
 from filmscale.continuum.indentation.spherical import detect_load_drop, pop_in_shear_stress
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
-from filmscale.continuum.indentation.curves import LOAD, UNLOAD
+from filmscale.md.contact import ContactAnalysis, read_dumps
+from filmscale.md.elastic import ElasticConstants
+from filmscale.md.run import IndentRun
 
 #: Agreement between the Hertzian segment and E* of the potential's Hill-averaged elastic
 #: constants: an anisotropic crystal under a few-nm sphere departs from isotropic Hertz by

@@ -27,10 +27,10 @@ from MDAnalysis.coordinates.LAMMPS import DumpReader
 from MDAnalysis.lib.util import anyopen
 from scipy.spatial import ConvexHull, QhullError
 
-
-from .units import from_si, to_si
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+
+from .units import from_si, to_si
 
 #: default contact tolerance of `contact_geometry`, in the caller's length unit: meant for
 #: Angstrom (0.5 A); `ContactAnalysis` takes it in metres (0.5e-10 m)

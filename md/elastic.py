@@ -19,11 +19,11 @@ from ase.io import write as ase_write
 
 from filmscale.continuum.elasticity import (IsotropicAverage, stiffness_from_stress_strain,
                                             voigt_reuss_hill)
+from filmscale.core.checks import check_real
 from filmscale.md.engine import EngineOptions, LammpsError, run_input
 from filmscale.md.structures import Crystal
 from filmscale.md.units import to_si
 from filmscale.potentials import Potential
-from filmscale.core.checks import check_real
 
 #: LAMMPS pressure components in Voigt order (xx, yy, zz, yz, xz, xy); stress = -pressure.
 _PRESSURE = ("pxx", "pyy", "pzz", "pyz", "pxz", "pxy")

@@ -22,12 +22,12 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from filmscale.continuum.indentation.tips import Cone, Sphere
+from filmscale.core.checks import check_positive, check_real
+from filmscale.core.errors import InputError
 from filmscale.md.structures import Slab, SlabSpec, build_slab
 from filmscale.md.units import from_si, to_si
 from filmscale.potentials import Potential
-from filmscale.core.checks import check_positive, check_real
-from filmscale.core.errors import InputError
-from filmscale.continuum.indentation.tips import Cone, Sphere
 
 #: fix indent force constant, 10 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
 #: sqrt(F/K) = 0.32 A inside the nominal sphere (docs/lammps.md measured protocols use it).

@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import math
 
-from filmscale.continuum.materials import ElasticPlastic
 from filmscale.continuum.indentation.tips import Cone, Sphere
-from filmscale.md.particles import (PERI_HORIZON, Grid, ParticleImpactSpec,
-                                    ParticleIndentSpec, ParticleMaterial)
+from filmscale.continuum.materials import ElasticPlastic
+from filmscale.md.particles import (PERI_HORIZON, Grid, ParticleImpactSpec, ParticleIndentSpec,
+                                    ParticleMaterial)
 from filmscale.md.units import from_si
 
 #: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.

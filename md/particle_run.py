@@ -18,18 +18,17 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
-from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD,
-                                          estimated_steps, input_text)
-from filmscale.md.particles import ParticleImpactSpec, ParticleIndentSpec
-from filmscale.md.units import to_si
 from filmscale.continuum.contact.hertz import elastic_impact, hertz_force
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
 from filmscale.continuum.indentation.tips import Sphere
-from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
 from filmscale.core.errors import InputError
 from filmscale.core.files import write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, estimated_steps,
+                                          input_text)
+from filmscale.md.particles import ParticleImpactSpec, ParticleIndentSpec
+from filmscale.md.units import to_si
 
 STATE_FILE = "state.json"
 #: The unloading load below which the contact counts as open: 1 % of the peak load.

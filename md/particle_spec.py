@@ -42,10 +42,10 @@ import tomllib
 from pathlib import Path
 
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
-                                    ParticleIndentSpec, ParticleMaterial, ParticleTarget)
 from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
+from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
+                                    ParticleMaterial, ParticleTarget)
 
 _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
 _R = 1e-6

@@ -20,8 +20,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
-from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.indentation.tips import Cone, Sphere, Tip, parse_tip
+from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
 

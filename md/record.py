@@ -8,13 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
+from filmscale.continuum.indentation.io import read_curve_group, write_curve_group
+from filmscale.core.files import atomic_h5
+from filmscale.core.provenance import provenance as base_provenance
 from filmscale.md.analysis import IndentAnalysis
 from filmscale.md.elastic import ElasticConstants
 from filmscale.md.engine import lammps_info
 from filmscale.md.run import IndentRun
-from filmscale.continuum.indentation.io import read_curve_group, write_curve_group
-from filmscale.core.files import atomic_h5
-from filmscale.core.provenance import provenance as base_provenance
 
 RECORD_FORMAT = "filmscale.md_indent/1"
 RECORD_NAME = "indent.h5"

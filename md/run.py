@@ -21,14 +21,14 @@ import numpy as np
 from ase.io import write as ase_write
 
 from filmscale import __version__
-from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
-from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
-                                      derive_seeds, indentation_input, resume_input)
-from filmscale.md.units import to_si
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.core.errors import InputError
 from filmscale.core.files import write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
+                                      derive_seeds, indentation_input, resume_input)
+from filmscale.md.units import to_si
 
 STATE_FILE = "state.json"
 _RESTART = re.compile(r"^restart\.(\d+)\.bin$")

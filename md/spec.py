@@ -32,11 +32,11 @@ import copy
 import tomllib
 from pathlib import Path
 
+from filmscale.core.checks import check_keys, check_table, required
+from filmscale.core.errors import InputError
 from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
-from filmscale.core.checks import check_keys, check_table, required
-from filmscale.core.errors import InputError
 from filmscale.potentials.registry import potential_from_mapping
 
 PRESETS: dict[str, dict] = {

@@ -21,9 +21,9 @@ from ase.build import bulk
 from ase.data import atomic_masses, atomic_numbers
 from ase.lattice.cubic import BodyCenteredCubic, FaceCenteredCubic
 
-from filmscale.md.units import from_si, to_si
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.md.units import from_si, to_si
 
 #: Crystal axes (x, y, z) for each surface orientation of the cubic lattices; z is the
 #: surface normal.

@@ -9,10 +9,9 @@ See docs/potentials.md.
 This package is a leaf: it imports no other scale and does not load LAMMPS.
 """
 
-from filmscale.potentials.registry import (ChecksumError, Potential, PotentialError,
-                                           get_potential, lammps_potentials_dir,
-                                           potential_from_mapping, potential_names, registry,
-                                           user_potential, verify_all)
+from filmscale.potentials.registry import (ChecksumError, Potential, PotentialError, get_potential,
+                                           lammps_potentials_dir, potential_from_mapping,
+                                           potential_names, registry, user_potential, verify_all)
 
 __all__ = [
     "ChecksumError",

@@ -1,4 +1,5 @@
-"""The import direction of docs/architecture.md: workflows -> md -> potentials; continuum is pure."""
+"""The import contracts of docs/architecture.md: core is a leaf kernel; continuum is pure and
+flows calibration -> indentation -> contact; workflows -> md -> potentials."""
 
 import subprocess
 import sys

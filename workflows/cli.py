@@ -8,25 +8,23 @@ LAMMPS run that stopped with an error (its message and run directory).
 from __future__ import annotations
 
 import argparse
-import os
 import math
+import os
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-
-from .scene import MapSpec, Scene, load_scene
-from filmscale.continuum.contact.impact_map import MAP_FIELDS
-
-from . import md_cli, particles_cli, pipeline_cli
-from filmscale.continuum.contact.impact_map import impact_map
-from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale import __version__
+from filmscale.continuum.contact.impact_map import MAP_FIELDS, impact_map
+from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
+
+from . import md_cli, particles_cli, pipeline_cli
+from .scene import MapSpec, Scene, load_scene
 
 
 def _range_arg(text: str) -> tuple[float, float, int]:
@@ -145,6 +143,7 @@ def cmd_impact_map(args) -> int:
     elapsed = time.perf_counter() - start
 
     from filmscale.core.provenance import provenance
+
     from .result import write_impact_maps
     out = write_impact_maps(args.out, maps, {k: m.describe() for k, m in models.items()},
                             provenance(command=" ".join(sys.argv), scene_source=scene.source),
@@ -214,8 +213,8 @@ def _profile_table(profile, path: Path) -> None:
 
 
 def cmd_indent_analyze(args) -> int:
-    from .indent import (UNREADABLE, AnalysisOptions, analyze_files, expand_inputs,
-                         options_dict, profile_of, resolve_tip, shallow_depth_correction)
+    from .indent import (UNREADABLE, AnalysisOptions, analyze_files, expand_inputs, options_dict,
+                         profile_of, resolve_tip, shallow_depth_correction)
 
     options = AnalysisOptions(tip=args.tip, area_file=args.area_file, window=args.window,
                               epsilon=args.epsilon, beta=args.beta, nu=args.nu,
@@ -279,6 +278,7 @@ def cmd_indent_analyze(args) -> int:
 
     if args.out:
         from filmscale.core.provenance import provenance
+
         from .result import write_indentation_results
         profile_data = None
         if profile is not None:

@@ -11,12 +11,11 @@ import math
 import sys
 from pathlib import Path
 
+from filmscale.core.errors import InputError
+from filmscale.core.jsonable import dumps
+from filmscale.core.provenance import provenance
 from filmscale.potentials import registry
 from filmscale.potentials.registry import get_potential, verify_all
-from filmscale.core.errors import InputError
-from filmscale.core.provenance import provenance
-from filmscale.core.jsonable import dumps
-
 
 
 def _indent_spec(args):

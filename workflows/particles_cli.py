@@ -8,11 +8,10 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+
 from filmscale.core.errors import InputError
-from filmscale.core.provenance import provenance
 from filmscale.core.jsonable import dumps
-
-
+from filmscale.core.provenance import provenance
 
 
 def _spec(args):
@@ -26,9 +25,9 @@ def _spec(args):
 
 def cmd_particles(args) -> int:
     from filmscale.md.engine import EngineOptions
+    from filmscale.md.particle_inputs import estimated_steps
     from filmscale.md.particle_run import (analyze_impact, analyze_indent, run_particles,
                                            write_particle_record)
-    from filmscale.md.particle_inputs import estimated_steps
 
     spec = _spec(args)
     engine = EngineOptions(np=args.np, omp_threads=1)

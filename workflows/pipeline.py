@@ -13,15 +13,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-
-
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.workflows.plan import Plan, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
-from filmscale.workflows.units import (calibration_part, calibration_unit, done_record,
-                                       finish_unit, impact_evaluation, joint_unit, say,
-                                       source_unit, unit_dir)
+from filmscale.workflows.units import (calibration_part, calibration_unit, done_record, finish_unit,
+                                       impact_evaluation, joint_unit, say, source_unit, unit_dir)
 
 
 @dataclass(frozen=True)

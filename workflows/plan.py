@@ -22,13 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum import ImpactModel
-from filmscale.continuum.materials import ElasticPlastic
-
 from filmscale.continuum.contact.laws import contact_law
-from filmscale.workflows.scene import CalibrationSource, PipelineScene, Scene, layer_sources
+from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.errors import InputError
-
-
+from filmscale.workflows.scene import CalibrationSource, PipelineScene, Scene, layer_sources
 
 FRICTION_LIMIT = 0.3
 

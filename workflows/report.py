@@ -12,12 +12,12 @@ from pathlib import Path
 
 import h5py
 
-
-from .plots import plt
 from filmscale.continuum.calibration.result import CrossCheck
-from filmscale.workflows.result import RESULT_FORMAT
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
+from filmscale.workflows.result import RESULT_FORMAT
+
+from .plots import plt
 
 
 def _png(fig) -> str:

@@ -10,19 +10,16 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
-from filmscale.continuum.contact.profiles import StackProfile
-from filmscale.continuum.contact.impact import ImpactMaxima, STATUS_MESSAGES
+from filmscale.continuum.contact.impact import STATUS_MESSAGES, ImpactMaxima
 from filmscale.continuum.contact.impact_map import ImpactMap
-from filmscale.workflows.plan import Plan
-from filmscale.workflows.scene import PipelineScene, Scene
+from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5
-from filmscale.core.provenance import provenance
 from filmscale.core.jsonable import dumps
-
-
+from filmscale.core.provenance import provenance
+from filmscale.workflows.plan import Plan
+from filmscale.workflows.scene import PipelineScene, Scene
 
 #: /2: ``cross_check`` of a calibrated layer is a list (one check per source)
 RESULT_FORMAT = "filmscale.scene_result/2"

@@ -19,15 +19,15 @@ import numpy as np
 from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
                                  StackProfile)
 from filmscale.continuum.contact.impact_map import axis
-from filmscale.continuum.contact.laws import ContactLaw, LAW_NAMES, contact_law
+from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
 from filmscale.continuum.contact.restitution import UNLOADING_MODELS
 from filmscale.continuum.indentation.io import read_table
 from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
-                                   VELOCITY_RANGE, check_choice, check_positive, check_real)
+                                   VELOCITY_RANGE, check_choice, check_keys, check_positive,
+                                   check_real, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_text
-from filmscale.core.checks import check_keys, required
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {

@@ -16,19 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
-
 from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration
 from filmscale.continuum.calibration.sharp import with_size_effect
 from filmscale.continuum.calibration.sphere import calibrate_sphere
+from filmscale.continuum.indentation.tips import Sphere
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_path, write_json
+from filmscale.core.provenance import provenance
 from filmscale.workflows.plan import Plan, chosen_model
 from filmscale.workflows.scene import CalibrationSource, Scene
-from filmscale.core.errors import InputError
-from filmscale.core.files import atomic_path
-from filmscale.core.provenance import provenance
-from filmscale.core.files import write_json
-from filmscale.continuum.indentation.tips import Sphere
-
 
 
 @functools.lru_cache(maxsize=1)
@@ -78,8 +75,8 @@ def run_md(spec, path: Path, ranks: int):
 
 def run_particle_model(spec, path: Path, ranks: int):
     from filmscale.md.engine import EngineOptions, lammps_info
-    from filmscale.md.particle_run import run_particles
     from filmscale.md.particle_inputs import estimated_steps
+    from filmscale.md.particle_run import run_particles
     bar, progress = _progress_bar(estimated_steps(spec))
     try:
         run = run_particles(spec, path, EngineOptions(np=ranks, omp_threads=1),
@@ -134,8 +131,8 @@ def _file_digest(path: Path) -> str:
 def _tip_counterpart(src: CalibrationSource):
     """Tips of MD and particle runs are rigid; tips of curve files are taken as diamond:
     (sphere indenter, sharp-tip E_i)."""
-    from filmscale.continuum.materials import DIAMOND
     from filmscale.continuum.indentation.reverse.functions import E_I_DAO
+    from filmscale.continuum.materials import DIAMOND
     return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
 
 

@@ -7,11 +7,9 @@ standard deviations, the layer's material and the cross-scale check of the calib
 forward model against its curves. SI units.
 """
 
-from filmscale.continuum.calibration.joint import (CalibrationPart, combine, sharp_part,
-                                                   sphere_part)
+from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration, CrossCheck, Parameter
-from filmscale.continuum.calibration.sharp import (calibrate_sharp, size_effect,
-                                                   with_size_effect)
+from filmscale.continuum.calibration.sharp import calibrate_sharp, size_effect, with_size_effect
 from filmscale.continuum.calibration.sphere import calibrate_sphere
 
 __all__ = [

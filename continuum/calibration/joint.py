@@ -37,16 +37,16 @@ from scipy.optimize import least_squares
 from scipy.stats import chi2
 from scipy.stats import f as f_dist
 
+from filmscale.continuum.contact.laws import ContactLaw, contact_law
+from filmscale.continuum.indentation.reverse.dao import dao_forward
+from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
+from filmscale.continuum.indentation.spherical import loading_points
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
+from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
 from .sharp import MIN_REL_STD, StrengthPoint, nix_gao_strengths, sharp_strength_points
 from .sphere import sphere_radius
-from filmscale.continuum.contact.laws import ContactLaw, contact_law
-from filmscale.continuum.indentation.reverse.dao import dao_forward
-from filmscale.continuum.indentation.spherical import loading_points
-from filmscale.core.errors import InputError
-from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
 
 #: floor of a sphere source's noise in the joint weights (as a fraction of its largest load)
 MIN_NOISE = 1e-4

@@ -12,13 +12,13 @@ from scipy.optimize import least_squares
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
 from filmscale.continuum.indentation.reverse import dao_reverse_repeated
+from filmscale.continuum.indentation.reverse.dao import dao_forward, dao_reverse
+from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
 from filmscale.continuum.indentation.size_effect import NixGaoFit, nix_gao_fit
 from filmscale.continuum.indentation.spherical import loading_points
 from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter
-from filmscale.continuum.indentation.reverse.dao import dao_forward, dao_reverse
-from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
 
 
 def sharp_inputs(curve: LoadDisplacementCurve, tip="berkovich"):

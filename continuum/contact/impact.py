@@ -29,20 +29,20 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, elementwise, minimize_scalar
 
-from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
-from .profiles import DepthProfile, profile_for
-from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
-from .restitution import UNLOADING_MODELS, Unloading, unload
 from filmscale.continuum.contact.laws import ContactLaw
+from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, STATUS_MESSAGES,
+                                                 UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE,
+                                                 ImpactHistory, ImpactMaxima, ImpactResult,
+                                                 exceeds_radius_message)
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_choice,
                                    check_positive_array, check_real)
 from filmscale.core.errors import InputError, ModelRangeError
-from filmscale.continuum.contact.results import (ImpactHistory, ImpactMaxima, ImpactResult,
-                                                 STATUS_MESSAGES)
-from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT,
-                                                 UNLOADING_OUT_OF_RANGE, exceeds_radius_message)
 
+from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
+from .profiles import DepthProfile, profile_for
+from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
+from .restitution import UNLOADING_MODELS, Unloading, unload
 
 _GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
 _TIME_OCTAVES = 8      # loading-time pieces: delta_max x (1, 3/4, 1/2, ..., 2^-8), then to 0

@@ -10,10 +10,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .impact import ImpactMaxima, ImpactModel
+from filmscale.continuum.contact.results import EXCEEDS_RADIUS
 from filmscale.core.checks import check_choice, check_positive, check_real
 from filmscale.core.errors import InputError
-from filmscale.continuum.contact.results import EXCEEDS_RADIUS
+
+from .impact import ImpactMaxima, ImpactModel
 
 #: the quantities a map shows, with units (the dissertation's Figs. 3.2-3.5 and more)
 MAP_FIELDS = {"delta_max": "m", "mean_pressure_max": "Pa", "force_max": "N",

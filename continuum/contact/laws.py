@@ -24,11 +24,12 @@ from types import MappingProxyType
 
 import numpy as np
 
+from filmscale.core.checks import check_choice, check_real
+from filmscale.core.errors import InputError
+
 from .hertz import first_yield as _hertz_first_yield
 from .hertz import hertz_force, yield_pressure_factor
 from .quadrature import integrate
-from filmscale.core.checks import check_choice, check_real
-from filmscale.core.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -215,7 +216,8 @@ class KomvopoulosYe(ContactLaw):
     """Rigid sphere on an elastic-perfectly plastic half-space (Komvopoulos & Ye 2001) [R].
 
     Representative strain eps = E* delta / (sigma_Y sqrt(delta (2R - delta))); truncated area
-    A_t = pi delta (2R - delta); P = p_m A with p_m/sigma_Y and A_t/A from docs/physics.md section 3.
+    A_t = pi delta (2R - delta); P = p_m A with p_m/sigma_Y and A_t/A from docs/physics.md
+    section 3.
     ``continuous=False`` uses the literal constants (force jumps of -4.6 % at eps = 1.78 and
     +8.3 % at eps = 400); ``continuous=True`` the variant continuous at every breakpoint.
     Valid for loading and delta <= R.

@@ -23,10 +23,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, LayerStack
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
-
 
 _X_MAX = 1e15   # I0(x), I1(x) equal 1 to double precision well before this
 

@@ -23,8 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .hertz import hertz_force
 from filmscale.core.checks import check_choice
+
+from .hertz import hertz_force
 
 UNLOADING_MODELS = ("crater", "jackson-chusoipin-green", "brake")
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from filmscale.core.jsonable import to_jsonable
 from filmscale.core.errors import ModelRangeError
+from filmscale.core.jsonable import to_jsonable
 
 #: status codes of a fast-path point
 OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE = 0, 1, 2, 3

@@ -12,8 +12,8 @@ from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, check
                                                     synthetic_curve)
 from filmscale.continuum.indentation.io import read_curves
 from filmscale.continuum.indentation.oliver_pharr import (OliverPharrResult,
-                                                          calibrate_frame_compliance,
-                                                          oliver_pharr, shallow_depth_hardness)
+                                                          calibrate_frame_compliance, oliver_pharr,
+                                                          shallow_depth_hardness)
 from filmscale.continuum.indentation.property_profile import property_profile
 from filmscale.continuum.indentation.size_effect import nix_gao_fit
 from filmscale.continuum.indentation.spherical import detect_pop_in, elastic_limit, hertz_fit

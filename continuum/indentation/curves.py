@@ -21,11 +21,11 @@ from types import MappingProxyType
 import numpy as np
 from scipy.ndimage import convolve1d
 from scipy.signal import savgol_coeffs
+
 from filmscale.core.checks import check_float_array, check_positive, check_real
 from filmscale.core.errors import InputError
 
 from .tips import Tip, parse_tip
-
 
 LOAD, HOLD, UNLOAD = 0, 1, 2
 SEGMENT_NAMES = ("load", "hold", "unload")

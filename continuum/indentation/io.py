@@ -23,12 +23,12 @@ import re
 from pathlib import Path
 
 import h5py
-
 import numpy as np
 
-from .curves import LoadDisplacementCurve
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_text
+
+from .curves import LoadDisplacementCurve
 
 #: unit -> factor to SI (m, Pa, N, s)
 UNITS = {

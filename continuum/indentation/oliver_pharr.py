@@ -21,12 +21,13 @@ import numpy as np
 from scipy.integrate import trapezoid
 from scipy.optimize import leastsq
 
-from .curves import CurveFlag, LoadDisplacementCurve, check_curve
-from .tips import Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, modulus_from_reduced
 from filmscale.core.checks import check_choice, check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.core.jsonable import to_jsonable
+
+from .curves import CurveFlag, LoadDisplacementCurve, check_curve
+from .tips import Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
 
 OK, FAILED = 0, 1
 EPSILON_CHOICES = ("tip", "exponent")

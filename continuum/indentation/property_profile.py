@@ -13,11 +13,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from filmscale.continuum.contact.profiles import TableProfile
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, LayerStack
 from filmscale.core.checks import check_positive
 from filmscale.core.errors import InputError
-
 
 #: repeats whose contact depths differ by less than this fraction form one depth group
 GROUP_TOLERANCE = 0.1

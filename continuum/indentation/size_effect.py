@@ -10,6 +10,7 @@ import numpy as np
 
 from filmscale.core.errors import InputError
 
+
 @dataclass(frozen=True)
 class NixGaoFit:
     """H = H_0 sqrt(1 + h*/h) fitted as the straight line H^2 = H_0^2 + H_0^2 h* / h."""

@@ -9,12 +9,13 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from filmscale.core.errors import InputError
+from filmscale.continuum.indentation.curves import LOAD
 from filmscale.core.checks import check_positive, check_real
+from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
 
 from .curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.curves import LOAD
+
 
 @dataclass(frozen=True)
 class HertzFit:

@@ -20,10 +20,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import gammaln
+
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
-
 
 BERKOVICH_AREA = 24.494     #: A / h_c^2 of the ideal Berkovich (65.27 deg face angle)
 BERKOVICH_CONE = 70.30      #: half-angle of the cone with the Berkovich area, degrees

@@ -4,10 +4,10 @@ import math
 
 import numpy as np
 import pytest
+
 from filmscale.continuum.contact.hertz import first_yield, hertz_force
 from filmscale.continuum.contact.laws import KY_CONTINUOUS, KY_LITERAL, LAW_NAMES, contact_law
 from filmscale.core.errors import InputError
-
 
 R, E, SY, NU = 10e-6, 96e9, 2.4e9, 0.25
 

@@ -5,13 +5,12 @@ import dataclasses
 import h5py
 import numpy as np
 import pytest
-from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, check_curve, drift_rate,
-                                                    synthetic_curve)
+
+from filmscale.continuum.indentation.curves import (HOLD, LOAD, UNLOAD, LoadDisplacementCurve,
+                                                    check_curve, drift_rate, synthetic_curve)
 from filmscale.continuum.indentation.io import read_curves, write_curve_group
 from filmscale.continuum.indentation.tips import berkovich
 from filmscale.core.errors import InputError
-from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
-
 
 TIP = berkovich()
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.elasticity import (IsotropicAverage, cubic_stiffness,
-                                            hexagonal_stiffness, stiffness_from_stress_strain,
-                                            voigt_reuss_hill, zener_ratio)
+from filmscale.continuum.elasticity import (IsotropicAverage, cubic_stiffness, hexagonal_stiffness,
+                                            stiffness_from_stress_strain, voigt_reuss_hill,
+                                            zener_ratio)
 from filmscale.continuum.materials import DIAMOND, reduced_modulus
 from filmscale.core.errors import InputError
 

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
+
 from filmscale.continuum.contact.hertz import (HERTZ_DURATION_FACTOR, elastic_impact,
                                                elastic_impact_time, first_yield, hertz_force,
                                                yield_pressure_factor, yield_velocity)
-
 
 
 def test_duration_constant_matches_direct_quadrature_and_physics_md():

@@ -3,17 +3,14 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.contact.impact import OK
-
-from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.contact.hertz import (elastic_impact, elastic_impact_time,
                                                yield_pressure_factor, yield_velocity)
-from filmscale.continuum.contact.impact import ImpactModel
+from filmscale.continuum.contact.impact import (EXCEEDS_RADIUS, OK, UNLOADING_INCONSISTENT,
+                                                UNLOADING_OUT_OF_RANGE, ImpactModel)
 from filmscale.continuum.contact.laws import LAW_NAMES, contact_law
 from filmscale.continuum.contact.restitution import thornton_restitution
+from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.errors import InputError, ModelRangeError
-from filmscale.continuum.contact.impact import (EXCEEDS_RADIUS, UNLOADING_INCONSISTENT,
-                                                UNLOADING_OUT_OF_RANGE)
 
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
 SLIDER = ElasticPlastic(E=400e9, nu=0.23, name="AlTiC")
@@ -29,7 +26,7 @@ def disk_stack(substrate=GLASS):
                       substrate)
 
 
-# --- Hertz oracle (docs/physics.md section 1) -------------------------------------------------------
+# --- Hertz oracle (docs/physics.md section 1) ------------------------------------------------
 
 @pytest.mark.parametrize("V, R, m", [(0.2, 10e-6, M), (1e-4, 1e-3, M), (5.0, 50e-9, 1e-18),
                                      (0.05, 1e-6, M)])

@@ -8,15 +8,13 @@ import pytest
 
 from filmscale.continuum.indentation import (calibrate_frame_compliance, detect_pop_in, hertz_fit,
                                              nix_gao_fit, oliver_pharr)
-from filmscale.continuum.materials import DIAMOND, ElasticPlastic
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve, synthetic_curve
-from filmscale.continuum.indentation.oliver_pharr import (elastic_indent, sample_modulus,
+from filmscale.continuum.indentation.curves import LOAD, LoadDisplacementCurve, synthetic_curve
+from filmscale.continuum.indentation.oliver_pharr import (FAILED, elastic_indent, sample_modulus,
                                                           shallow_depth_hardness)
 from filmscale.continuum.indentation.spherical import pop_in_shear_stress
 from filmscale.continuum.indentation.tips import Cone, Sphere, berkovich, parse_tip
+from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.errors import InputError
-from filmscale.continuum.indentation.curves import LOAD
-from filmscale.continuum.indentation.oliver_pharr import FAILED
 
 E_R, H = 120e9, 12e9
 
@@ -214,8 +212,8 @@ def test_load_drop_found_at_the_peak_with_its_size():
 
 
 def test_no_load_drop_on_noisy_monotonic_loading():
-    from filmscale.continuum.indentation.spherical import detect_load_drop
     from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.spherical import detect_load_drop
     rng = np.random.default_rng(5)
     h = np.linspace(0, 1e-9, 400)
     P = 50e-9 * (h / 1e-9)**1.5 + 0.1e-9 * rng.standard_normal(h.size)
@@ -238,8 +236,8 @@ def test_contact_oscillations_are_not_pop_ins():
     """A particle model's contact oscillation (a 1 % dip early in the loading, the shape of
     the TLSPH ci curve) is a load drop to `detect_load_drop` but not a pop-in to
     `elastic_limit`, which needs 2 % of P_max; a 30 % drop is one."""
-    from filmscale.continuum.indentation.spherical import detect_load_drop, elastic_limit
     from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+    from filmscale.continuum.indentation.spherical import detect_load_drop, elastic_limit
     h = np.linspace(0, 100e-9, 400)
     P = 1e-3 * (h / 100e-9)**1.5
     P = P - 1e-5 * np.exp(-((h - 5e-9) / 1e-9)**2)          # 1 % of P_max

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+
 from filmscale.continuum.indentation.io import parse_header, read_table
 from filmscale.core.errors import InputError
-
 
 
 def test_units_in_header_convert_to_si(tmp_path):

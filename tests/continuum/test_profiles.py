@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.materials import DIAMOND, ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.contact.profiles import (StackProfile, TableProfile, UniformProfile,
                                                   gao_i0, gao_i1)
+from filmscale.continuum.materials import DIAMOND, ElasticPlastic, Layer, LayerStack
 from filmscale.core.errors import InputError
 
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")

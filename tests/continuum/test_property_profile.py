@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 
-from filmscale.continuum.materials import DIAMOND, ElasticPlastic, Layer, LayerStack
 from filmscale.continuum.contact.impact import ImpactModel
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.indentation.property_profile import property_profile
+from filmscale.continuum.materials import DIAMOND, ElasticPlastic, Layer, LayerStack
 from filmscale.core.errors import InputError
-
 
 E_P_KNOTS = [200e9, 150e9, 100e9]     # target plane-strain modulus at 0, 20, 100 nm
 

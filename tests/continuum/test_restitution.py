@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+
 from filmscale.continuum.contact.hertz import hertz_force
 from filmscale.continuum.contact.restitution import (UNLOADING_MODELS, johnson_restitution,
                                                      thornton_restitution, unload)
-
 
 R, E = 10e-6, 100e9
 

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+
 from filmscale.continuum.indentation.reverse.dao import (dao_forward, dao_reverse,
                                                          dao_reverse_repeated)
 from filmscale.continuum.indentation.reverse.data import dao2001_table
@@ -21,7 +22,6 @@ from filmscale.continuum.indentation.reverse.surrogate import surrogate_hyperpar
 from filmscale.continuum.indentation.reverse.validation import cross_validate, fe_error_table
 from filmscale.continuum.indentation.tips import Cone, berkovich
 from filmscale.core.errors import InputError, ModelRangeError
-
 
 ORACLE = dict(E=70.1e9, nu=0.33, sigma_y=0.5e9, n=0.122, h_m=1e-6)   # docs/physics.md section 10
 

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.materials import DIAMOND
-from filmscale.continuum.indentation.tips import (Cone, FUSED_SILICA, FlatPunch, PolynomialArea,
+from filmscale.continuum.indentation.tips import (FUSED_SILICA, Cone, FlatPunch, PolynomialArea,
                                                   Sphere, SphericalCone, berkovich, beta_hay,
                                                   beta_no_slip, calibrate_area_function,
                                                   cube_corner, epsilon_from_exponent,
                                                   fit_tip_radius, parse_tip)
+from filmscale.continuum.materials import DIAMOND
 from filmscale.core.errors import InputError
 
 

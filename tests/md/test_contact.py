@@ -12,8 +12,8 @@ import MDAnalysis as mda
 import numpy as np
 import pytest
 
-from filmscale.md.contact import ContactAnalysis, contact_geometry, read_dumps
 from filmscale.core.errors import InputError
+from filmscale.md.contact import ContactAnalysis, contact_geometry, read_dumps
 
 S = 2.5                 # lattice spacing, A
 N = 40                  # atoms per row

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from filmscale.core.errors import InputError
 from filmscale.md.indentation import SEED_MAX, derive_seeds, indentation_input, resume_input
 from filmscale.md.spec import PRESETS, preset, spec_from_mapping
 from filmscale.potentials import PotentialError
-from filmscale.core.errors import InputError
 
 GOLDEN = Path(__file__).parent / "golden"
 

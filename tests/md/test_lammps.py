@@ -11,6 +11,7 @@ import time
 import numpy as np
 import pytest
 
+from filmscale.continuum.indentation.curves import LOAD
 from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
 from filmscale.md.elastic import elastic_constants
 from filmscale.md.engine import EngineOptions, LammpsError, load_library, run_input
@@ -18,7 +19,6 @@ from filmscale.md.run import run_indentation
 from filmscale.md.spec import preset
 from filmscale.md.structures import Crystal
 from filmscale.potentials.registry import get_potential
-from filmscale.continuum.indentation.curves import LOAD
 
 try:
     load_library()

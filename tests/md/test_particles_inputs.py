@@ -7,16 +7,16 @@ import math
 import numpy as np
 import pytest
 
+from filmscale.continuum.contact.hertz import elastic_impact, elastic_impact_time, hertz_force
 from filmscale.continuum.materials import ElasticPlastic
+from filmscale.core.errors import InputError
+from filmscale.md.particle_inputs import K_FACTOR, input_text, johnson_cook_hardening
 from filmscale.md.particle_run import (ParticleRun, analyze_impact, block_hertz_force,
                                        residual_from_unloading)
 from filmscale.md.particle_spec import PRESETS, preset, spec_from_mapping
-from filmscale.md.particle_inputs import K_FACTOR, input_text, johnson_cook_hardening
-from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec,
-                                    ParticleIndentSpec, ParticleMaterial, ParticleTarget)
+from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
+                                    ParticleMaterial, ParticleTarget)
 from filmscale.md.units import from_si, to_si
-from filmscale.continuum.contact.hertz import elastic_impact, elastic_impact_time, hertz_force
-from filmscale.core.errors import InputError
 
 R = 1e-6
 M_IMPACT = 1.0382e-13     # kg: Hertz delta_max = 0.1 R at 50 m/s on Al

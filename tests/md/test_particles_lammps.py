@@ -7,12 +7,12 @@ import h5py
 import numpy as np
 import pytest
 
+from filmscale.continuum.contact.hertz import hertz_force
+from filmscale.continuum.indentation.curves import LOAD
 from filmscale.md.particle_run import (analyze_impact, analyze_indent, block_hertz_force,
                                        read_snapshot, run_particles, write_particle_record)
 from filmscale.md.particle_spec import preset
 from filmscale.md.particles import Grid
-from filmscale.continuum.contact.hertz import hertz_force
-from filmscale.continuum.indentation.curves import LOAD
 
 R = 1e-6
 
@@ -118,8 +118,8 @@ def test_plastic_indentation_stops_at_separation_with_the_crater_residual(tmp_pa
     from dataclasses import replace
 
     from filmscale.continuum.contact.laws import contact_law
-    from filmscale.continuum.materials import ElasticPlastic
     from filmscale.continuum.contact.restitution import unload
+    from filmscale.continuum.materials import ElasticPlastic
     from filmscale.md.particles import ParticleMaterial, ParticleTarget
 
     mat = ElasticPlastic(70e9, 0.3, 3e8, name="Al-pp")

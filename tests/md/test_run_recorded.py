@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.elasticity import cubic_stiffness, voigt_reuss_hill
+from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
+from filmscale.continuum.indentation.io import read_curves
 from filmscale.md import run as md_run
 from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
 from filmscale.md.engine import parse_table
 from filmscale.md.spec import preset
-from filmscale.continuum.indentation.io import read_curves
-from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
 
 RECORDED = Path(__file__).parent / "recorded" / "ci"
 EV_PER_A = 1.602176634e-9     # N

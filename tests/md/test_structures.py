@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.md.structures import Crystal, SlabLayer, SlabSpec, build_slab
 from filmscale.core.errors import InputError
+from filmscale.md.structures import Crystal, SlabLayer, SlabSpec, build_slab
 
 CU, NI = Crystal("Cu", "fcc", 3.615e-10), Crystal("Ni", "fcc", 3.52e-10)
 

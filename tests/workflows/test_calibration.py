@@ -3,12 +3,12 @@ sphere contact law (with Gaussian noise) and Dao's forward functions (round trip
 
 import numpy as np
 import pytest
+
 from filmscale.continuum.calibration.sharp import calibrate_sharp
 from filmscale.continuum.calibration.sphere import calibrate_sphere
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.reverse.dao import dao_forward
-
 
 E, NU, SY = 70e9, 0.3, 0.3e9
 E_STAR = E / (1 - NU**2)

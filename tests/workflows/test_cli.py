@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from filmscale.continuum import ElasticPlastic, elastic_impact
+from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
 from filmscale.workflows.result import read_impact_maps
-from filmscale.core.files import atomic_h5
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
 FILMSCALE = Path(sys.executable).with_name("filmscale")

@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from filmscale.workflows.cli import main
 from filmscale.continuum.indentation.curves import synthetic_curve
 from filmscale.continuum.indentation.io import read_table
 from filmscale.continuum.indentation.tips import berkovich
+from filmscale.workflows.cli import main
 from filmscale.workflows.result import read_indentation_results
 
 FILMSCALE = Path(sys.executable).with_name("filmscale")

@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.materials import ElasticPlastic
-from tests.workflows.test_calibration import synthetic_sharp_curve
 from filmscale.continuum.calibration.joint import combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.sharp import calibrate_sharp
 from filmscale.continuum.calibration.sphere import calibrate_sphere
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.materials import ElasticPlastic
+from tests.workflows.test_calibration import synthetic_sharp_curve
 
 LAW = contact_law("komvopoulos-ye-continuous")
 E, NU = 130e9, 0.34              # a Cu-like film

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from filmscale.continuum import ImpactModel
-from filmscale.workflows.report import write_figure, write_report
 from filmscale.continuum.contact.laws import contact_law
-from filmscale.workflows import pipeline as pl
-from filmscale.core.errors import InputError
 from filmscale.continuum.materials import ElasticPlastic
+from filmscale.core.errors import InputError
+from filmscale.workflows import pipeline as pl
 from filmscale.workflows.plan import plan_scene
+from filmscale.workflows.report import write_figure, write_report
 from filmscale.workflows.result import RESULT_FORMAT
 from filmscale.workflows.scene import parse_pipeline
 
@@ -171,9 +171,9 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
     contact law with E = 120 GPa, sigma_y = 3 GPa, a diamond tip and 1 % noise; the scene
     recovers E and sigma_y within 3 std, the cross-scale check passes at 3 % (the misfit is
     the 1 % noise), no LAMMPS is launched, and the stored plan keeps the calibration step."""
-    from filmscale.continuum.materials import DIAMOND, ElasticPlastic
     import filmscale.md.particle_run as particle_run
     import filmscale.md.run as md_run
+    from filmscale.continuum.materials import DIAMOND, ElasticPlastic
     E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
     law = contact_law("komvopoulos-ye-continuous")
     E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
@@ -235,8 +235,8 @@ def test_calibration_sources_are_checked_before_any_run(tmp_path):
 def test_cross_check_passes_at_the_noise_and_fails_below_it():
     """Forward-law curve with 1 % noise: the calibrated law reproduces it to about 1 % rms,
     so the check passes at 2 % and fails at 0.5 %."""
-    from tests.workflows.test_calibration import LAW, NU, R, E_STAR, SY, sphere_curve
     from filmscale.continuum.calibration.sphere import calibrate_sphere
+    from tests.workflows.test_calibration import E_STAR, LAW, NU, SY, R, sphere_curve
     dy = float(LAW.first_yield(R, E_STAR, SY, NU).approach)
     cal = calibrate_sphere(sphere_curve(30 * dy, 0.01, np.random.default_rng(4)), nu=NU)
     assert cal.cross_check(0.02).passed and not cal.cross_check(0.005).passed
@@ -302,8 +302,8 @@ def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tm
     test_joint); the result stores one cross-scale check per source and the report shows
     both; a rerun reuses all four units."""
     from filmscale.continuum.indentation.io import CURVE_FORMAT, write_curve_group
-    from tests.workflows import test_joint as tj
     from filmscale.continuum.materials import DIAMOND
+    from tests.workflows import test_joint as tj
     md = tj.md_curve(np.random.default_rng(1), indenter=DIAMOND)
     (tmp_path / "nm.csv").write_text(
         "h [nm], P [nN]\n" + "".join(f"{a * 1e9:.8f}, {b * 1e9:.8f}\n"

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from filmscale.continuum import StackProfile
-from filmscale.workflows.scene import load_scene, parse_scene
 from filmscale.continuum.contact.profiles import TableProfile, UniformProfile
 from filmscale.core.errors import InputError
+from filmscale.workflows.scene import load_scene, parse_scene
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
 

@@ -7,12 +7,10 @@ surrogate fitted to the packaged finite-element cases (`surrogate`, `data`) and 
 accuracy of each route (`validation`). Equations: docs/physics.md section 10.
 """
 
-from filmscale.continuum.indentation.reverse.dao import (ForwardResult, ReverseResult,
-                                                         dao_forward, dao_reverse,
-                                                         dao_reverse_repeated)
+from filmscale.continuum.indentation.reverse.dao import (ForwardResult, ReverseResult, dao_forward,
+                                                         dao_reverse, dao_reverse_repeated)
 from filmscale.continuum.indentation.reverse.dual import DualResult, dual_reverse
-from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, NU_I_DAO,
-                                                               loading_curvature,
+from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, NU_I_DAO, loading_curvature,
                                                                sharp_calibration, sharp_tip)
 from filmscale.continuum.indentation.reverse.validation import (CrossValidation, cross_validate,
                                                                 fe_error_table)

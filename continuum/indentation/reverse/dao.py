@@ -29,11 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import elementwise
 
-from filmscale.continuum.materials import modulus_from_reduced
-from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, E_I_DAO,
+from filmscale.continuum.indentation.reverse.functions import (_N_GRID, DAO_RATIO_RANGE, E_I_DAO,
                                                                HR_HM_VERIFIED, METHODS, N_RANGE,
                                                                N_SENSITIVITY_LIMIT, N_STD_LIMIT,
-                                                               NU_I_DAO, WPWT_RANGE, _N_GRID,
+                                                               NU_I_DAO, WPWT_RANGE,
                                                                _interpolation_note, _pi4_inverse,
                                                                _pi5_inverse, _SharpCalibration,
                                                                dao_pi1, dao_pi2, dao_pi4, dao_pi5,
@@ -42,11 +41,10 @@ from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, 
                                                                sharp_calibration)
 from filmscale.continuum.indentation.reverse.surrogate import _features, _surrogate
 from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _spread
-from filmscale.core.checks import (MODULUS_MAX, check_choice, check_int, check_positive,
-                                   check_real)
+from filmscale.continuum.materials import modulus_from_reduced
+from filmscale.core.checks import MODULUS_MAX, check_choice, check_int, check_positive, check_real
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
-
 
 # --- validation helpers ---------------------------------------------------------------------
 

@@ -8,12 +8,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import elementwise
 
-from filmscale.continuum.indentation.reverse.dao import (_check_std, _check_WpWt,
-                                                         _point_warnings, _raise_reason,
-                                                         _reverse_arrays, _reverse_setup,
-                                                         _summary_row, yield_strength)
-from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, N_RANGE, N_STD_LIMIT,
-                                                               NU_I_DAO, _N_GRID,
+from filmscale.continuum.indentation.reverse.dao import (_check_std, _check_WpWt, _point_warnings,
+                                                         _raise_reason, _reverse_arrays,
+                                                         _reverse_setup, _summary_row,
+                                                         yield_strength)
+from filmscale.continuum.indentation.reverse.functions import (_N_GRID, E_I_DAO, N_RANGE,
+                                                               N_STD_LIMIT, NU_I_DAO,
                                                                _interpolation_note,
                                                                loading_curvature,
                                                                representative_stress,
@@ -22,7 +22,6 @@ from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _s
 from filmscale.core.checks import check_int, check_positive
 from filmscale.core.errors import ModelRangeError
 from filmscale.core.jsonable import to_jsonable
-
 
 # --- dual indenter --------------------------------------------------------------------------
 

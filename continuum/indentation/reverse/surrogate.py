@@ -10,11 +10,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import Delaunay
+
 from filmscale.continuum.indentation.reverse.data import _fe_cases
 from filmscale.continuum.indentation.reverse.functions import (SURROGATE_DEGREES,
-                                                               SURROGATE_FALLBACK,
-                                                               SURROGATE_RIDGES)
-from filmscale.continuum.indentation.reverse.functions import (SURROGATE_SELECTION_FOLDS,
+                                                               SURROGATE_FALLBACK, SURROGATE_RIDGES,
+                                                               SURROGATE_SELECTION_FOLDS,
                                                                SURROGATE_SELECTION_REPEATS,
                                                                SURROGATE_SELECTION_SEED)
 

@@ -14,16 +14,13 @@ from filmscale.continuum.indentation.reverse.dao import (_indenter_compliance, _
 from filmscale.continuum.indentation.reverse.data import (_FE_REVERSE_FILES, _fe_cases,
                                                           _packaged_table)
 from filmscale.continuum.indentation.reverse.dual import _dual_arrays
-from filmscale.continuum.indentation.reverse.functions import (C_STAR_BERKOVICH, E_I_DAO,
-                                                               FE_DEPTH, FE_NU, METHODS,
-                                                               NU_I_DAO, SELECTIONS,
-                                                               loading_curvature,
-                                                               sharp_calibration)
+from filmscale.continuum.indentation.reverse.functions import (C_STAR_BERKOVICH, E_I_DAO, FE_DEPTH,
+                                                               FE_NU, METHODS, NU_I_DAO, SELECTIONS,
+                                                               loading_curvature, sharp_calibration)
 from filmscale.continuum.indentation.reverse.surrogate import (_fe_design, _group_folds, _select,
                                                                _surrogate, _train)
 from filmscale.core.checks import check_choice, check_int
 from filmscale.core.jsonable import to_jsonable
-
 
 # --- cross-validation -------------------------------------------------------------------------
 

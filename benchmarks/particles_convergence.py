@@ -47,7 +47,8 @@ R = 1e-6
 AL = ParticleMaterial(ElasticPlastic(70e9, 0.3, name="Al"), 2700.0)
 AL6061 = ParticleMaterial(ElasticPlastic(66.8e9, 0.33, 284e6, 0.08, "Al6061-T6511"), 2700.0)
 AL7075 = ParticleMaterial(ElasticPlastic(70.1e9, 0.33, 500e6, 0.122, "Al7075-T651"), 2810.0)
-#: measured Berkovich loading curvature of Al 6061-T6511 (mean of shared/data/dao2001/Al6061.csv)
+#: measured Berkovich loading curvature of Al 6061-T6511 (the mean of the packaged
+#: continuum/indentation/reverse/data/dao2001/Al6061.csv)
 C_MEASURED_6061 = 27.443e9
 
 

@@ -24,6 +24,7 @@ from scipy.signal import savgol_coeffs
 
 from filmscale.core.checks import check_float_array, check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.noise import noise_sigma
 
 from .tips import Tip, parse_tip
 
@@ -241,18 +242,6 @@ def _line(x, y) -> tuple[float, float, float]:
     return a, b, float(r @ r)
 
 
-def load_noise(P) -> float:
-    """Standard deviation (N) of the point-to-point noise of a load record.
-
-    The robust scatter (1.4826 MAD) of second differences over sqrt(6): smooth loading,
-    holds and unloading contribute almost nothing to second differences, noise does.
-    """
-    d2 = np.diff(np.asarray(P, dtype=float), 2)
-    if d2.size == 0:
-        return 0.0
-    return 1.4826 * _quantile(np.abs(d2 - _quantile(d2, 0.5)), 0.5) / math.sqrt(6.0)
-
-
 def _rate(P, t):
     """(dP/dt smoothed by a Savitzky-Golay filter (per median sampling interval), the
     standard deviation that the load noise
@@ -268,7 +257,7 @@ def _rate(P, t):
     if window < 3:
         rate = np.gradient(P)
         return rate, 0.0, _quantile(np.abs(rate), 0.9)
-    sigma = load_noise(P)
+    sigma = noise_sigma(P)
     step = 1.0
     if t is not None:
         step = _quantile(np.diff(t), 0.5)
@@ -416,7 +405,7 @@ def check_curve(curve: LoadDisplacementCurve, window=(0.2, 0.98)) -> tuple[Curve
                                    f"{MIN_UNLOADING_POINTS})"))
     if P_max <= 0:
         flags.append(CurveFlag("zero_load_offset", "the load never rises above zero"))
-    elif np.min(c.P) < -LOAD_OFFSET_FRACTION * P_max - NOISE_SIGMAS * load_noise(c.P):
+    elif np.min(c.P) < -LOAD_OFFSET_FRACTION * P_max - NOISE_SIGMAS * noise_sigma(c.P):
         flags.append(CurveFlag("zero_load_offset", f"loads down to {np.min(c.P):.3g} N: the "
                                f"zero of load is offset"))
     else:

@@ -38,7 +38,7 @@ def reverse_of(f, **kw):
 # --- oracle and self-consistency ------------------------------------------------------------
 
 def test_round_trip_oracle_to_the_printed_digits():
-    # physics.md prints E* = 73.440 GPa, sigma_0.033 = 0.6173 GPa, C = 43.840 GPa,
+    # docs/physics.md prints E* = 73.440 GPa, sigma_0.033 = 0.6173 GPa, C = 43.840 GPa,
     # dP/dh = 4.3354e5 N/m, W_p/W_t = 0.8242, h_r/h_m = 0.8713: half a unit of the last digit
     f = oracle_forward()
     assert f.E_star == pytest.approx(73.440e9, abs=0.0005e9)
@@ -69,7 +69,7 @@ def test_forward_then_reverse_recovers_the_material(E, nu, sigma_y, n, tip):
 
 
 def test_published_constants_are_consistent():
-    # physics.md: eps_r(theta) gives 0.0335 at 70.3 deg; Pi1 is monotone exactly between its
+    # docs/physics.md: eps_r(theta) gives 0.0335 at 70.3 deg; Pi1 is monotone exactly between its
     # stationary points E*/sigma = 3.85 and 804 (derivative zero there to the printed digits)
     assert float(representative_strain(70.3)) == pytest.approx(0.0335, abs=5e-5)
     dpi1 = np.polyder(PI1_DAO)

@@ -6,7 +6,6 @@ is written atomically."""
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import json
 import math
@@ -16,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from filmscale import __version__
 from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration
 from filmscale.continuum.calibration.sharp import with_size_effect
@@ -23,15 +23,14 @@ from filmscale.continuum.calibration.sphere import calibrate_sphere
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path, write_json
-from filmscale.core.provenance import provenance
+from filmscale.core.provenance import source_revision
 from filmscale.workflows.plan import Plan, chosen_model
 from filmscale.workflows.scene import CalibrationSource, Scene
 
 
-@functools.lru_cache(maxsize=1)
 def code_version() -> str:
-    info = provenance()
-    return f"{info['filmscale_version']}+{info['source_revision']}"
+    """The package version and source revision that every unit's hash includes."""
+    return f"{__version__}+{source_revision()}"
 
 
 def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
@@ -42,6 +41,7 @@ def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
 
 
 def done_record(path: Path) -> dict | None:
+    """The record of a finished unit, None while it is not finished."""
     marker = path / "done.json"
     return json.loads(marker.read_text()) if marker.exists() else None
 
@@ -52,6 +52,7 @@ def finish_unit(path: Path, record: dict) -> dict:
 
 
 def say(message: str):
+    """A progress line on stderr."""
     print(f"filmscale: {message}", file=sys.stderr, flush=True)
 
 

@@ -37,6 +37,7 @@ from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
+from .target import SphereTarget
 
 
 def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
@@ -52,8 +53,10 @@ def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
 def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
                      law: str | ContactLaw = "komvopoulos-ye-continuous",
                      indenter: ElasticPlastic | None = None, n: float = 0.0,
-                     split_at_pop_in: bool = True) -> Calibration:
-    """E and sigma_y of a homogeneous layer from spherical loading curves.
+                     split_at_pop_in: bool = True, thickness: float | None = None,
+                     substrate: ElasticPlastic | None = None) -> Calibration:
+    """E and sigma_y of a layer from spherical loading curves: a half-space of the layer, or
+    the layer as a film of ``thickness`` on ``substrate`` (`SphereTarget`).
 
     Parameters
     ----------
@@ -66,7 +69,8 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     law : str or ContactLaw
         Sphere contact law used as the forward model beyond first yield.
     indenter : ElasticPlastic, optional
-        An elastic indenter (None: rigid, as the MD and particle tips are).
+        The tip's material (None: rigid, as the MD and particle tips are; `DIAMOND` for a
+        measured curve).
     n : float
         The hardening exponent reported (not identifiable from an elastic-perfectly plastic
         sphere law); default 0.
@@ -74,6 +78,10 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         True (default): curves with a pop-in give E* from Hertz before it and sigma_y from
         the loading after it. False: one joint fit of E* and sigma_y over the whole loading,
         which trades E* against the elastic overshoot before a pop-in.
+    thickness, substrate : float (m) and ElasticPlastic, optional
+        The layer is a film of this thickness on this substrate (an MD film on its MD
+        substrate, say): the forward model is the Gao-weighted layered contact law, and only
+        the film's E and sigma_y are fitted. A substrate without sigma_y takes the film's.
     """
     curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
     if not curves:
@@ -87,28 +95,57 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     for c, r in zip(curves, radii):
         h, P, pop = loading_points(c, with_pop_in=True)
         data.append((h, P, sphere_radius(c, r), float(P.max()), pop))
-    compliance = 0.0 if indenter is None else indenter.compliance
+    target = SphereTarget(nu, indenter, thickness, substrate)
     sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
     common = dict(layer=layer, nu=nu, n=Parameter(
         float(n), math.nan, "", False,
         f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"), sources=sources,
-        model=law.name)
+        model=law.name if not target.layered else f"{law.name} on a {target.describe()}")
     if split_at_pop_in and any(pop is not None for *_, pop in data):
-        return _sphere_past_pop_in(data, law, nu, compliance, common)
-    return _sphere_joint(data, law, nu, compliance, common)
+        return _sphere_past_pop_in(data, law, target, common)
+    return _sphere_joint(data, law, target, common)
 
 
-def _residuals(data, law, nu, E_star, sigma_y):
-    return np.concatenate([(law.contact(h, r, E_star, sigma_y, nu).force - P) / Pm
-                           for h, P, r, Pm, *_ in data])
+def _residuals(data, law, target, E_star, sigma_y, yielding_substrate=True):
+    return np.concatenate([(target.forces(law, h, r, E_star, sigma_y, yielding_substrate)[0]
+                            - P) / Pm for h, P, r, Pm, *_ in data])
 
 
-def _fitted(data, law, nu, E_star, sigma_y):
-    return tuple((h, P, law.contact(h, r, E_star, sigma_y, nu).force)
+def _fitted(data, law, target, E_star, sigma_y):
+    return tuple((h, P, target.forces(law, h, r, E_star, sigma_y)[0])
                  for h, P, r, Pm, *_ in data)
 
 
-def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
+def _yields(data, law, target, E_star, sigma_y) -> bool:
+    """Some point of the curves reaches the law's first threshold."""
+    return any(np.any(target.forces(law, h, r, E_star, sigma_y)[1] > 0)
+               for h, _, r, *_ in data)
+
+
+def _joint_fits(data, law, target, lnE, ln_sy, elastic_sy, joint_start=None):
+    """Least-squares fits of ln E* alone (from ``lnE``; Hertz branch: nothing yields) and of
+    ln E* with ln sigma_y (from ``joint_start``, else the elastic fit's E* and ``ln_sy``).
+    A film's fit is kept within a factor 1000 of its start either way: beyond, the substrate
+    alone carries the curve and the film's parameters run off."""
+    bounds = (-np.inf, np.inf)
+    if target.layered:
+        start = np.array([lnE, ln_sy] if joint_start is None else joint_start)
+        bounds = (start - math.log(1e3), start + math.log(1e3))
+    def elastic_residuals(lnE):
+        return _residuals(data, law, target, math.exp(lnE[0]), elastic_sy,
+                          yielding_substrate=False)
+
+    def residuals(theta):
+        return _residuals(data, law, target, *np.exp(theta))
+    efit = least_squares(elastic_residuals, [lnE], diff_step=1e-6, xtol=1e-12, ftol=1e-12,
+                         bounds=(bounds[0] if np.isscalar(bounds[0]) else bounds[0][:1],
+                                 bounds[1] if np.isscalar(bounds[1]) else bounds[1][:1]))
+    fit = least_squares(residuals, [efit.x[0], ln_sy] if joint_start is None else joint_start,
+                        diff_step=1e-6, xtol=1e-12, ftol=1e-12, bounds=bounds)
+    return efit, fit
+
+
+def _sphere_joint(data, law, target, common) -> Calibration:
     """Smooth curves: ln E* and ln sigma_y together, or Hertz alone when that suffices."""
     # starting point: Hertz on the first third of each curve's load, then yield at the
     # largest mean pressure divided by the law's hardness factor
@@ -117,23 +154,19 @@ def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
     pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm, _ in data)
     sy0 = pm / law.hardness_factor
 
-    def residuals(theta):
-        return _residuals(data, law, nu, *np.exp(theta))
-
     N = sum(h.size for h, *_ in data)
     elastic_sy = 1e3 * E0            # so high that nothing yields: the Hertz branch
-
-    def elastic_residuals(lnE):
-        return residuals(np.array([lnE[0], math.log(elastic_sy)]))
-
-    efit = least_squares(elastic_residuals, [math.log(E0)], diff_step=1e-6, xtol=1e-12,
-                         ftol=1e-12)
-    fit = least_squares(residuals, [efit.x[0], math.log(sy0)], diff_step=1e-6, xtol=1e-12,
-                        ftol=1e-12)
+    lnE, ln_sy, joint_start = math.log(E0), math.log(sy0), None
+    if target.layered:
+        # from the half-space answer (the apparent modulus and strength): started from the
+        # Hertz guess, a film fit can slide to a film of no stiffness on a strong substrate
+        efit0, fit0 = _joint_fits(data, law, SphereTarget(target.nu, target.indenter), lnE,
+                                  ln_sy, elastic_sy)
+        lnE, joint_start = efit0.x[0], fit0.x
+    efit, fit = _joint_fits(data, law, target, lnE, ln_sy, elastic_sy, joint_start)
     ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
     E_star, sigma_y = np.exp(fit.x)
-    reaches_yield = any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu)
-                        for h, _, r, *_ in data)
+    reaches_yield = _yields(data, law, target, E_star, sigma_y)
     # sigma_y counts as seen when the elastic-plastic fit beats Hertz alone by more than
     # noise: F test of the extra parameter at 95 % (F(1, N - 2) above its 0.95 quantile)
     F = (ssr_el - ssr) / max(ssr / max(N - 2, 1), 1e-300)
@@ -142,7 +175,8 @@ def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
     if yielded:
         cov = ssr / max(N - 2, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
         std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-        delta_y = max(_yield_approach(law, r, E_star, sigma_y, nu) for _, _, r, *_ in data)
+        delta_y = max(_yield_approach(law, r, *target.properties(h.max(), r, E_star, sigma_y))
+                      for h, _, r, *_ in data)
         if max(h.max() for h, *_ in data) < 3 * delta_y:
             warnings.append(f"the deepest point is under 3 x the first-yield approach "
                             f"({delta_y:.3g} m): sigma_y rests on the early elastic-plastic "
@@ -154,37 +188,48 @@ def _sphere_joint(data, law, nu, compliance, common) -> Calibration:
         ssr = ssr_el
         E_star = float(np.exp(efit.x[0]))
         std_lnE = math.sqrt(ssr / max(N - 1, 1) / float((efit.jac.T @ efit.jac)[0, 0]))
-        sigma_param = _lower_bound(data, law, E_star, nu)
+        sigma_param = _lower_bound(data, law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
+    fitted = _fitted(data, law, target, E_star, sigma_y) if yielded else tuple(
+        (h, P, target.forces(law, h, r, E_star, elastic_sy, False)[0])
+        for h, P, r, *_ in data)
     return Calibration(
-        route="sphere", E=modulus_parameter(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",
-        rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings),
-        fitted_curves=_fitted(data, law, nu, E_star,
-                              sigma_y if yielded else elastic_sy), **common)
+        rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings), fitted_curves=fitted,
+        **common)
 
 
-def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
+def _sphere_past_pop_in(data, law, target, common) -> Calibration:
     """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading before
     the first pop-in, then sigma_y with E* fixed on the loading after it. The contact law
     has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
     sigma_y adds the propagated std of E* to its own (conditional) one."""
-    # stage 1: P = E* x with x = 4/3 sqrt(R) h^1.5, each curve weighted by 1/P_max
+    # stage 1: the elastic branch before each pop-in, each curve weighted by 1/P_max
     pre = [(h[:pop + 1], P[:pop + 1], r, Pm) for h, P, r, Pm, pop in data if pop is not None]
+    n_pre = sum(h.size for h, *_ in pre)
+    if n_pre < 3:
+        raise InputError(f"only {n_pre} loading points before the pop-in: a Hertz fit of "
+                         "E needs at least 3")
+    # Hertz with the reduced modulus felt at each approach; a half-space is linear in E*,
+    # P = E* x with x = 4/3 sqrt(R) h^1.5, which gives the start
     x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
     y = np.concatenate([P / Pm for h, P, r, Pm in pre])
-    if x.size < 3:
-        raise InputError(f"only {x.size} loading points before the pop-in: a Hertz fit of "
-                         "E needs at least 3")
-    E_star = float(x @ y / (x @ x))
-    r1 = y - E_star * x
-    std_lnE = math.sqrt(float(r1 @ r1) / max(x.size - 1, 1) / float(x @ x)) / E_star
+
+    def elastic_residuals(lnE):
+        return np.concatenate([(target.hertz(h, r, math.exp(lnE[0])) - P) / Pm
+                               for h, P, r, Pm in pre])
+    efit = least_squares(elastic_residuals, [math.log(float(x @ y / (x @ x)))],
+                         diff_step=1e-6, xtol=1e-14, ftol=1e-14)
+    E_star = float(math.exp(efit.x[0]))
+    std_lnE = math.sqrt(float(efit.fun @ efit.fun) / max(n_pre - 1, 1)
+                        / float((efit.jac.T @ efit.jac)[0, 0]))
     # stage 2: the rest of each curve (all of a curve without a pop-in)
     post = [(h[pop + 1:] if pop is not None else h, P[pop + 1:] if pop is not None else P,
              r, Pm) for h, P, r, Pm, pop in data]
     post = [d for d in post if d[0].size]
     N2 = sum(h.size for h, *_ in post)
-    warnings = [f"pop-in at {Pm_pop:.3g} N, {h_pop:.3g} m: E from the {x.size} Hertz points "
+    warnings = [f"pop-in at {Pm_pop:.3g} N, {h_pop:.3g} m: E from the {n_pre} Hertz points "
                 "before it, sigma_y from the loading after it"
                 for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
                                       if pop is not None)]
@@ -192,11 +237,11 @@ def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
     if N2 >= 2:
         sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor
         def residuals(ln_sy, ln_E=math.log(E_star)):
-            return _residuals(post, law, nu, math.exp(ln_E), math.exp(ln_sy[0]))
+            return _residuals(post, law, target, math.exp(ln_E), math.exp(ln_sy[0]))
         fit = least_squares(residuals, [math.log(sy0)], diff_step=1e-6, xtol=1e-12,
                             ftol=1e-12)
         sigma_y = float(np.exp(fit.x[0]))
-        if any(h.max() > _yield_approach(law, r, E_star, sigma_y, nu) for h, _, r, _ in post):
+        if _yields(post, law, target, E_star, sigma_y):
             ssr2 = float(fit.fun @ fit.fun)
             J_S = fit.jac[:, 0]
             eps = 1e-4
@@ -207,12 +252,12 @@ def _sphere_past_pop_in(data, law, nu, compliance, common) -> Calibration:
             sigma_param = _yield_parameter(sigma_y, math.sqrt(var_cond
                                                               + (sens * std_lnE)**2))
     if sigma_param is None:
-        sigma_param = _lower_bound(post or pre, law, E_star, nu)
+        sigma_param = _lower_bound(post or pre, law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
-    fitted = _fitted(data, law, nu, E_star, sigma_param.value)
+    fitted = _fitted(data, law, target, E_star, sigma_param.value)
     resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
     return Calibration(
-        route="sphere", E=modulus_parameter(E_star, std_lnE, nu, compliance), sigma_y=sigma_param,
+        route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
                     "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
         rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
@@ -226,8 +271,15 @@ def _yield_parameter(sigma_y, std_lnS) -> Parameter:
                                    f"{IDENTIFIABLE_RSD:.0%}")
 
 
-def _lower_bound(data, law, E_star, nu) -> Parameter:
-    value = min(_yield_lower_bound(law, h.max(), r, E_star, nu) for h, _, r, *_ in data)
+def _modulus(target: SphereTarget, E_star, std_lnE) -> Parameter:
+    return modulus_parameter(E_star, std_lnE, target.nu, target.compliance)
+
+
+def _lower_bound(data, law, target, E_star) -> Parameter:
+    """First yield exactly at each curve's deepest point, with the properties felt there."""
+    value = min(_yield_lower_bound(law, h.max(), r, *target.properties(h.max(), r, E_star,
+                                                                         E_star)[::2])
+                for h, _, r, *_ in data)
     return Parameter(value, math.nan, "Pa", False,
                      "no curve passes first yield beyond noise; the value is a lower bound")
 

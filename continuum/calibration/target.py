@@ -1,0 +1,112 @@
+"""What a calibration curve was measured on: the forward model of a sphere calibration.
+
+A curve of an MD run is a film of known thickness on the MD substrate; a particle-model curve
+has its own layers; a measured curve is a film on the substrate the user states, or a
+half-space. `SphereTarget` evaluates the contact law over a curve's approaches with the
+calibrated layer in its place:
+
+- a half-space of the layer: E*, sigma_y and nu are the layer's, uniform;
+- a film of ``thickness`` on ``substrate``: E_p = E/(1 - nu^2), sigma_y and nu are weighted
+  with Gao, Chiu & Lee (1992) at the contact radius a = sqrt(R delta), exactly as the impact
+  model weights a layer stack (`filmscale.continuum.contact.profiles.StackProfile`,
+  docs/physics.md section 7), so that the calibrated film goes unchanged into a scene's stack.
+
+The tip counts through ``indenter`` (None: rigid, as the MD and particle tips are; a
+diamond tip for measured curves): 1/E* = 1/E_p + (1 - nu_i^2)/E_i. The regime of the law at
+each point is the one of the largest severity reached so far (a layered target's severity
+need not rise monotonically; docs/physics.md section 3).
+
+The calibration's unknowns are the layer's reduced modulus against the tip, E*_layer, and
+its sigma_y; a substrate whose sigma_y is not stated (infinite) is given the film's sigma_y,
+so that only the elastic mismatch of the substrate is modelled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from filmscale.continuum.contact.hertz import hertz_force
+from filmscale.continuum.contact.laws import ContactLaw
+from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.continuum.materials import (ElasticPlastic, Layer, LayerStack,
+                                           modulus_from_reduced, reduced_modulus)
+from filmscale.core.checks import THICKNESS_MAX, check_real
+from filmscale.core.errors import InputError
+
+
+@dataclass(frozen=True)
+class SphereTarget:
+    """The layer under calibration (Poisson ratio ``nu``), alone or as a film of
+    ``thickness`` (m) on ``substrate``, pressed by a tip of material ``indenter``."""
+
+    nu: float
+    indenter: ElasticPlastic | None = None
+    thickness: float | None = None
+    substrate: ElasticPlastic | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "nu", check_real("nu", self.nu, low=-1.0, high=0.5,
+                                                  low_open=True, high_open=True))
+        if (self.thickness is None) != (self.substrate is None):
+            raise InputError("a film calibration needs both the film thickness and the "
+                             "substrate (or neither, for a half-space of the layer)")
+        if self.thickness is not None:
+            check_real("film thickness", self.thickness, low=0.0, low_open=True,
+                       high=THICKNESS_MAX, unit="m")
+            if not isinstance(self.substrate, ElasticPlastic):
+                raise InputError(f"substrate must be an ElasticPlastic material, got "
+                                 f"{self.substrate!r}")
+
+    @property
+    def layered(self) -> bool:
+        return self.thickness is not None
+
+    @property
+    def compliance(self) -> float:
+        """(1 - nu_i^2)/E_i of the tip, 1/Pa (0 for a rigid tip)."""
+        return 0.0 if self.indenter is None else self.indenter.compliance
+
+    def layer_modulus(self, E_star) -> float:
+        """The layer's Young's modulus E (Pa) from its reduced modulus against the tip."""
+        return float(modulus_from_reduced(E_star, self.nu, self.compliance))
+
+    def properties(self, delta, R, E_star, sigma_y, yielding_substrate: bool = True):
+        """(E*, sigma_y, nu) felt at approaches ``delta`` (m) by a sphere of radius R (m)
+        when the layer has reduced modulus ``E_star`` and yield strength ``sigma_y`` (Pa).
+        ``yielding_substrate=False`` gives the substrate the layer's sigma_y whatever it is
+        stated to be (the Hertz branch of a fit, where nothing may yield)."""
+        if not self.layered:
+            return E_star, sigma_y, self.nu
+        film = ElasticPlastic(self.layer_modulus(E_star), self.nu, sigma_y)
+        substrate = self.substrate
+        if not (yielding_substrate and math.isfinite(substrate.sigma_y)):
+            substrate = replace(substrate, sigma_y=sigma_y)
+        e_p, s_y, nu = StackProfile(LayerStack((Layer(self.thickness, film),),
+                                               substrate)).properties(delta, R)
+        return reduced_modulus(e_p, self.indenter), s_y, nu
+
+    def forces(self, law: ContactLaw, delta, R, E_star, sigma_y, yielding_substrate=True):
+        """(force (N), branch) of ``law`` over a loading record of approaches ``delta``."""
+        delta = np.asarray(delta, dtype=float)
+        props = self.properties(delta, R, E_star, sigma_y, yielding_substrate)
+        severity = np.maximum.accumulate(np.atleast_1d(law.severity(delta, R, *props)))
+        branch = law.branch_of(severity)
+        return law.force_area(delta, R, *props, branch)[0], branch
+
+    def hertz(self, delta, R, E_star):
+        """Hertz's force (N) with the reduced modulus felt at each approach (Johnson 1985):
+        the elastic loading before a pop-in."""
+        return hertz_force(delta, R, self.properties(delta, R, E_star, 1.0, False)[0])
+
+    def describe(self) -> str:
+        tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"
+        if not self.layered:
+            return f"half-space of the layer, {tip}"
+        s = self.substrate
+        strength = (f"sigma_y {s.sigma_y:.3g} Pa" if math.isfinite(s.sigma_y)
+                    else "sigma_y taken as the film's")
+        return (f"film of {self.thickness:.3g} m on {s.name or 'substrate'} (E {s.E:.3g} Pa, "
+                f"nu {s.nu:g}, {strength}), Gao-weighted; {tip}")

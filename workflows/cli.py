@@ -23,7 +23,7 @@ from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
-from . import md_cli, particles_cli, pipeline_cli
+from . import calibrate_cli, md_cli, particles_cli, pipeline_cli
 from .scene import MapSpec, Scene, load_scene
 
 
@@ -435,6 +435,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.set_defaults(func=cmd_indent_reverse)
+    calibrate_cli.add_commands(sub)
     md_cli.add_commands(sub)
     particles_cli.add_commands(sub)
     pipeline_cli.add_commands(sub)

@@ -18,16 +18,19 @@ import numpy as np
 
 from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
                                  StackProfile)
+from filmscale.continuum.calibration.route import TIP_MATERIALS
 from filmscale.continuum.contact.impact_map import axis
 from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
 from filmscale.continuum.contact.restitution import UNLOADING_MODELS
 from filmscale.continuum.indentation.io import read_table
+from filmscale.continuum.indentation.tips import parse_tip
 from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
                                    VELOCITY_RANGE, check_choice, check_keys, check_positive,
                                    check_real, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_text
+from filmscale.continuum.calibration.result import CROSS_CHECK_TOLERANCE
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -292,15 +295,16 @@ def _particle_spec(name: str, base: Path):
 SOURCE_KINDS = ("md", "particles", "curves")
 
 
-#: default tolerance of the cross-scale check: rms misfit of the calibrated forward model
-#: over the calibration curves, as a fraction of the largest load
-CROSS_CHECK_TOLERANCE = 0.1
 
 
 @dataclass(frozen=True)
 class CalibrationSource:
     """Where a layer's E and sigma_y come from: an MD indentation (preset or spec file), a
-    particle-model indentation (preset or spec file), or curve files (measured)."""
+    particle-model indentation (preset or spec file), or curve files (measured), and what the
+    curves were measured on: the tip's material (rigid for runs, diamond by default for curve
+    files) and, for a film, its thickness and substrate (an MD run's film on its MD substrate
+    and a particle model's film on its own substrate are known from the run; curve files
+    state them)."""
 
     layer: int
     name: str
@@ -309,6 +313,9 @@ class CalibrationSource:
     np: int = 1
     tip: str = ""                #: indenter of curve files that do not name one
     tolerance: float = CROSS_CHECK_TOLERANCE
+    tip_material: str = "diamond"
+    film_thickness: float | None = None     #: m, curve files on a stated substrate
+    substrate: ElasticPlastic | None = None
 
     @property
     def label(self) -> str:
@@ -322,6 +329,33 @@ class CalibrationSource:
         if self.kind == "particles":
             return _particle_spec(self.source[0], Path(base).resolve())
         return None
+
+    def films(self, spec, where: str = "calibrate") -> tuple:
+        """The films of a run's spec, top first: the calibrated layer is the top one, on the
+        run's substrate; more than one film is refused (its stack is not calibrated)."""
+        films = spec.slab.films if self.kind == "md" else spec.target.films
+        if len(films) > 1:
+            raise InputError(f"{where}: the {self.kind} run {self.source[0]} has "
+                             f"{len(films)} films; a calibration takes one film on its "
+                             "substrate")
+        return films
+
+    def film(self, base: Path, record: dict | None = None):
+        """(thickness, substrate) of the calibrated layer as a film, or (None, None) for a
+        half-space: stated for curve files, the particle target's own, and for an MD run its
+        top film on the substrate whose elastic constants its run unit computed from the
+        potential (``record["film"]``)."""
+        if self.kind == "curves":
+            return self.film_thickness, self.substrate
+        if self.kind == "particles":
+            films = self.films(self.spec(base))
+            target = self.spec(base).target
+            return (films[0][0], target.substrate.material) if films else (None, None)
+        film = (record or {}).get("film")
+        if not film:
+            return None, None
+        sub = film["substrate"]
+        return film["thickness"], ElasticPlastic(sub["E"], sub["nu"], name=sub["name"])
 
     def curves(self, base: Path) -> list:
         """The curves of curve files, each with its indenter (``tip`` where unnamed)."""
@@ -374,15 +408,19 @@ def filled_data(data: dict, materials: dict[int, ElasticPlastic],
     return data
 
 
+_SOURCE_KEYS = {"np", "tip", "tolerance", "tip_material", "film_thickness", "substrate"}
+
+
 def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
     """One ``calibrate`` table, checked."""
-    allowed = set(SOURCE_KINDS) | {"np", "tip", "tolerance"}
     kinds = [key for key in SOURCE_KINDS if isinstance(cal, dict) and key in cal]
-    if not isinstance(cal, dict) or set(cal) - allowed or len(kinds) != 1:
+    if not isinstance(cal, dict) or set(cal) - set(SOURCE_KINDS) - _SOURCE_KEYS \
+            or len(kinds) != 1:
         raise InputError(f"{where} takes exactly one of md (an MD preset or spec file), "
                          "particles (a particle-model preset or spec file) or curves (a "
-                         f"list of curve files), and np, tip, tolerance; got {cal!r} (one "
-                         "layer takes several sources as [[target.layers.calibrate]] tables)")
+                         f"list of curve files), and {', '.join(sorted(_SOURCE_KEYS))}; got "
+                         f"{cal!r} (one layer takes several sources as "
+                         "[[target.layers.calibrate]] tables)")
     kind = kinds[0]
     np_ = cal.get("np", 1)
     if isinstance(np_, bool) or not isinstance(np_, int) or not 1 <= np_ <= 4096:
@@ -396,11 +434,29 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
                             else "a preset name or a spec file name"))
     tip = cal.get("tip", "")
     if tip:
-        from filmscale.continuum.indentation.tips import parse_tip
         parse_tip(tip)
     tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
                      low=1e-4, high=1.0)
-    return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol)
+    tip_material = check_choice(f"{where}.tip_material",
+                                cal.get("tip_material", "diamond" if kind == "curves"
+                                        else "rigid"), TIP_MATERIALS)
+    if kind != "curves" and tip_material != "rigid":
+        raise InputError(f"{where}.tip_material = {tip_material!r}: the tips of MD and "
+                         "particle runs are rigid")
+    if ("film_thickness" in cal) != ("substrate" in cal):
+        raise InputError(f"{where}: film_thickness and substrate go together (the film's "
+                         "thickness and what it was measured on)")
+    thickness = substrate = None
+    if "film_thickness" in cal:
+        if kind != "curves":
+            raise InputError(f"{where}.film_thickness: an {kind} run knows its own film and "
+                             "substrate; film_thickness and substrate are for curve files")
+        thickness = check_real(f"{where}.film_thickness", cal["film_thickness"], low=0.0,
+                               low_open=True, high=THICKNESS_MAX, unit="m")
+        raw = check_keys(f"{where}.substrate", cal["substrate"], _MATERIAL_KEYS)
+        substrate = _material(f"{where}.substrate", raw, require_yield="sigma_y" in raw)
+    return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol,
+                             tip_material, thickness, substrate)
 
 
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
@@ -440,7 +496,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
             if src.kind == "curves":
                 src.curves(base)    # readable, each with an indenter, before any work
             else:
-                src.spec(base)      # the spec's own checks, before any work
+                src.films(src.spec(base), where)    # the spec's own checks, before any work
             sources.append(src)
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import sys
 from dataclasses import asdict
 from pathlib import Path
@@ -18,10 +17,7 @@ import numpy as np
 from filmscale import __version__
 from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration
-from filmscale.continuum.calibration.sharp import with_size_effect
-from filmscale.continuum.calibration.sphere import calibrate_sphere
-from filmscale.continuum.indentation.tips import Sphere
-from filmscale.core.errors import InputError
+from filmscale.continuum.calibration.route import calibrate, sharp_tip_of, tip_counterpart
 from filmscale.core.files import atomic_path, write_json
 from filmscale.core.provenance import source_revision
 from filmscale.workflows.plan import Plan, chosen_model
@@ -63,6 +59,10 @@ def _progress_bar(total: int):
 
 
 def run_md(spec, path: Path, ranks: int):
+    """The MD indentation, and the potential's own elastic constants of the film and of the
+    substrate under it (0 K, Voigt-Reuss-Hill): the substrate for the film's calibration,
+    the film's for the check of the calibrated E against the potential."""
+    from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.record import run_provenance
     from filmscale.md.run import run_indentation
@@ -71,7 +71,22 @@ def run_md(spec, path: Path, ranks: int):
         run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)
     finally:
         bar.close()
-    return run.curve, {"wall_time": run.wall_time, **run_provenance(run)}
+    record = {"wall_time": run.wall_time, **run_provenance(run)}
+    layers = {"top": (spec.slab.films or (spec.slab.substrate,))[0]}
+    if spec.slab.films:
+        layers["substrate"] = spec.slab.substrate
+    elastic = {key: elastic_constants(spec.potential, layer.crystal,
+                                      run_dir=path / f"elastic-{key}").average
+               for key, layer in layers.items()}
+    record["potential_elastic"] = {key: {"element": layers[key].crystal.element,
+                                         "E": avg.E, "nu": avg.nu}
+                                   for key, avg in elastic.items()}
+    if spec.slab.films:
+        sub = elastic["substrate"]
+        record["film"] = {"thickness": spec.slab.films[0].thickness,
+                          "substrate": {"name": spec.slab.substrate.crystal.element,
+                                        "E": sub.E, "nu": sub.nu}}
+    return run.curve, record
 
 
 def run_particle_model(spec, path: Path, ranks: int):
@@ -129,49 +144,24 @@ def _file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def _tip_counterpart(src: CalibrationSource):
-    """Tips of MD and particle runs are rigid; tips of curve files are taken as diamond:
-    (sphere indenter, sharp-tip E_i)."""
-    from filmscale.continuum.indentation.reverse.functions import E_I_DAO
-    from filmscale.continuum.materials import DIAMOND
-    return (None, math.inf) if src.kind != "curves" else (DIAMOND, E_I_DAO)
-
-
-def _sharp_tip(src: CalibrationSource, curves: list):
-    """The one sharp tip of the curves, or None when all are spheres."""
-    spheres = [isinstance(c.indenter, Sphere) for c in curves]
-    if all(spheres):
-        return None
-    tips = {c.indenter for c in curves}
-    if any(spheres) or len(tips) != 1:
-        raise InputError(f"target.layers[{src.layer}].calibrate: the curves mix indenters "
-                         f"({', '.join(sorted(map(str, tips)))}); calibrate from one tip "
-                         "shape")
-    return tips.pop()
-
-
-def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str
-                     ) -> Calibration:
-    """Sphere tips: the contact-law fit; sharp tips: Dao's reverse analysis (with the Nix-Gao
-    length of sigma_y from three or more depths)."""
-    from filmscale.continuum.calibration.sharp import calibrate_sharp
-    indenter, E_i = _tip_counterpart(src)
-    tip = _sharp_tip(src, curves)
-    if tip is None:
-        return calibrate_sphere(curves, nu=nu, law=law, layer=src.name, indenter=indenter)
-    cal = calibrate_sharp(curves, nu=nu, tip=tip, layer=src.name, E_i=E_i)
-    depths = {round(float(np.max(c.h)), 12) for c in curves}
-    return with_size_effect(cal, curves, tip, E_i=E_i) if len(depths) >= 3 else cal
+def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str, base: Path,
+                     record: dict | None = None) -> Calibration:
+    """The source's calibration (`filmscale.continuum.calibration.route.calibrate`): its tip
+    material, and for a film its thickness and substrate (``record``: the run unit's)."""
+    thickness, substrate = src.film(base, record)
+    return calibrate(curves, nu=nu, tip_material=src.tip_material, thickness=thickness,
+                     substrate=substrate, law=law, layer=src.name)
 
 
 def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, law: str
                      ) -> CalibrationPart:
-    """A source's calibration as a joint calibration of its layer takes it."""
-    indenter, E_i = _tip_counterpart(src)
-    tip = _sharp_tip(src, curves)
+    """A source's calibration as a joint calibration of its layer takes it (a film's
+    substrate is not modelled in the joint fit: the sources enter as half-spaces)."""
+    indenter, E_i, nu_i = tip_counterpart(src.tip_material)
+    tip = sharp_tip_of(curves)
     if tip is None:
         return sphere_part(src.label, cal, curves, law, indenter)
-    return sharp_part(src.label, cal, curves, tip, E_i=E_i)
+    return sharp_part(src.label, cal, curves, tip, E_i=E_i, nu_i=nu_i)
 
 
 def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
@@ -199,9 +189,14 @@ def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list
     """Calibrate (or reuse the calibration of) a source's curves."""
     origin = run_path.name if run_path is not None else \
         {f: _file_digest(Path(base) / f) for f in src.source}
-    path = unit_dir(store, "calibration", {"source": origin, "nu": nu, "law": law,
-                                          "layer": src.name, "tip": src.tip})
-    cal, reused = _stored_calibration(path, lambda: calibrate_curves(src, curves, nu, law))
+    record = done_record(run_path) if run_path is not None else None
+    thickness, substrate = src.film(base, record)
+    path = unit_dir(store, "calibration", {
+        "source": origin, "nu": nu, "law": law, "layer": src.name, "tip": src.tip,
+        "tip_material": src.tip_material, "film_thickness": thickness,
+        "substrate": None if substrate is None else asdict(substrate)})
+    cal, reused = _stored_calibration(
+        path, lambda: calibrate_curves(src, curves, nu, law, base, record))
     return cal, path, reused
 
 

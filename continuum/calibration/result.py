@@ -21,6 +21,11 @@ def _float(x) -> float:
     return math.nan if x is None else float(x)
 
 
+#: default tolerance of the cross-scale check: rms misfit of the calibrated forward model
+#: over the calibration curves, as a fraction of the largest load
+CROSS_CHECK_TOLERANCE = 0.1
+
+
 @dataclass(frozen=True)
 class Parameter:
     """A calibrated value with one standard deviation (NaN when the data do not bound it)."""

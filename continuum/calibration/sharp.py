@@ -15,7 +15,7 @@ from filmscale.continuum.indentation.reverse import dao_reverse_repeated
 from filmscale.continuum.indentation.reverse.dao import dao_forward, dao_reverse
 from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
 from filmscale.continuum.indentation.size_effect import NixGaoFit, nix_gao_fit
-from filmscale.continuum.indentation.spherical import loading_points
+from filmscale.continuum.indentation.spherical import check_tip_shape, loading_points
 from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter
@@ -48,6 +48,8 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
     curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
     if not curves:
         raise InputError("calibrate_sharp needs at least one curve")
+    for c in curves:
+        check_tip_shape(c, "sharp")
     inputs = np.array([sharp_inputs(c, tip) for c in curves])
     C, C_std, S, W, hm = inputs.T
     if len(curves) == 1:

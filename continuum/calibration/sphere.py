@@ -30,7 +30,7 @@ from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.spherical import hertz_fit, loading_points
+from filmscale.continuum.indentation.spherical import check_tip_shape, hertz_fit, loading_points
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_real
@@ -92,6 +92,8 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         raise InputError(f"R has {len(radii)} values for {len(curves)} curves")
     law = contact_law(law) if isinstance(law, str) else law
     data = []
+    for c in curves:
+        check_tip_shape(c, "sphere")
     for c, r in zip(curves, radii):
         h, P, pop = loading_points(c, with_pop_in=True)
         data.append((h, P, sphere_radius(c, r), float(P.max()), pop))

@@ -224,3 +224,38 @@ def loading_points(curve: LoadDisplacementCurve, with_pop_in=False):
     end = elastic_limit(c)
     pop = None if end is None else int(np.count_nonzero(keep[:end + 1])) - 1
     return h[keep], P[keep], (pop if pop is not None and pop >= 0 else None)
+
+
+#: loading exponents m of P ~ h^m that each tip shape can give: a sphere 1.5 (Hertz)
+#: falling towards 1 when fully plastic, a little above 1.5 on a stiffer substrate; a sharp
+#: tip 2 at every depth (Kick's law), elastic or plastic, a little off it on a substrate
+EXPONENT_RANGES = {"sphere": (0.8, 1.8), "sharp": (1.7, 2.4)}
+
+
+def loading_exponent(curve: LoadDisplacementCurve) -> float:
+    """The exponent m of P = k h^m over the loading, by least squares in ln P against ln h
+    over the points above 10 % of the largest load before the first pop-in (a pop-in's
+    excursion is not the tip's shape)."""
+    h, P, pop = loading_points(curve, with_pop_in=True)
+    if pop is not None and pop >= 3:
+        h, P = h[:pop + 1], P[:pop + 1]
+    keep = P >= 0.1 * P.max()
+    if keep.sum() < 3:
+        raise InputError(f"curve {curve.meta.get('source', '')!r}: fewer than 3 loading "
+                         "points above 10 % of its load; no loading exponent")
+    return float(np.polyfit(np.log(h[keep]), np.log(P[keep]), 1)[0])
+
+
+def check_tip_shape(curve: LoadDisplacementCurve, shape: str) -> float:
+    """The curve's loading exponent, or InputError when it contradicts a ``shape`` of
+    "sphere" or "sharp" tip (`EXPONENT_RANGES`): a Berkovich curve declared as a sphere
+    loads as h^2, not h^1.5."""
+    m = loading_exponent(curve)
+    lo, hi = EXPONENT_RANGES[shape]
+    if not lo <= m <= hi:
+        other = "sharp" if shape == "sphere" else "spherical"
+        raise InputError(
+            f"curve {curve.meta.get('source', '')!r} loads as P ~ h^{m:.2f}, outside the "
+            f"{lo:g}-{hi:g} of a {shape} tip ({curve.indenter or 'no tip named'}): it looks "
+            f"{other}; check the tip the curve was measured with")
+    return m

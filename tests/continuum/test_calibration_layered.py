@@ -78,3 +78,27 @@ def test_film_without_its_substrate_is_refused():
     curves, _ = film_curves(1.0, np.random.default_rng(1))
     with pytest.raises(InputError, match="film thickness and the substrate"):
         calibrate_sphere(curves, nu=NU, thickness=T)
+
+
+def test_a_curve_whose_shape_contradicts_its_tip_is_refused():
+    """A Berkovich curve (Dao's forward C, P = C h^2) declared as a 5 um sphere is refused
+    before any fit, and a sphere curve declared as Berkovich likewise; the message gives the
+    measured loading exponent."""
+    from filmscale.continuum.calibration import calibrate_sharp
+    from filmscale.continuum.indentation.reverse import dao_forward
+    from filmscale.continuum.indentation.spherical import loading_exponent
+
+    h = np.linspace(10e-9, 1e-6, 100)
+    C = dao_forward(95e9, 0.3, 0.3e9, 0.1, 1e-6).C
+    berkovich_as_sphere = LoadDisplacementCurve(h, C * h**2, segment=np.zeros(h.size, int),
+                                                indenter="sphere:5um")
+    with pytest.raises(InputError, match=r"loads as P ~ h\^2.00, outside the 0.8-1.8 of a "
+                                         r"sphere tip .* looks sharp"):
+        calibrate_sphere(berkovich_as_sphere, nu=0.3)
+    curves, _ = film_curves(1.0, np.random.default_rng(2))
+    assert 1.3 < loading_exponent(curves[0]) < 1.6            # Hertz 1.5, less past yield
+    sphere_as_berkovich = LoadDisplacementCurve(curves[0].h, curves[0].P,
+                                                segment=curves[0].segment,
+                                                indenter="berkovich")
+    with pytest.raises(InputError, match="looks spherical"):
+        calibrate_sharp(sphere_as_berkovich, nu=0.3)

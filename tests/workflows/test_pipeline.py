@@ -343,3 +343,69 @@ def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tm
     assert "E in the joint fit" in report
     again = pl.run_scene(sc, tmp_path / "store", tmp_path / "r2.h5")
     assert set(again.units.values()) == {"reused"} and len(again.units) == 4
+
+
+#: a ci-sized MD film: 0.9 nm of Cu on Ni (CuNi potential), the ci preset's sphere and protocol
+FILM_SPEC = """
+name = "ci-film"
+[potential]
+name = "CuNi"
+[slab]
+orientation = "001"
+lateral_size = 3.7e-9
+films = [{ element = "Cu", thickness = 0.9e-9 }]
+substrate = { element = "Ni", thickness = 1.4e-9 }
+[indenter]
+shape = "sphere"
+radius = 8e-10
+[protocol]
+depth = 4e-10
+speed = 200.0
+timestep = 4e-15
+equilibration_time = 4e-13
+hold_time = 2e-13
+record_every = 5
+restart_every = 200
+seed = 2026
+"""
+
+
+def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path):
+    """The same curve gives the same calibration whether it comes as an MD unit or as a file
+    with tip_material = "rigid" and the MD film's thickness and substrate (to 1e-6); taken
+    as a diamond tip (the default for files) it does not. The MD unit records the potential's
+    own elastic constants of its film and substrate."""
+    from filmscale.continuum.indentation.io import write_curve_group
+    from filmscale.core.files import atomic_h5
+    from filmscale.workflows.units import calibration_unit, done_record, source_unit
+
+    store = tmp_path / "store"
+    (tmp_path / "film.toml").write_text(FILM_SPEC)
+    md = parse_pipeline(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-9, impactor_extra="",
+                                    film='[target.layers.calibrate]\nmd = "film.toml"',
+                                    want='["maxima"]'), "md.toml", tmp_path)
+    src = md.calibrations[0]
+    run_path, _, curves = source_unit(src, tmp_path, store)
+    md_cal = calibration_unit(src, run_path, curves, 0.3, "komvopoulos-ye", tmp_path, store)[0]
+    record = done_record(run_path)
+    assert set(record["potential_elastic"]) == {"top", "substrate"}
+    film = record["film"]
+    assert film["thickness"] > 0 and 50e9 < film["substrate"]["E"] < 400e9
+    assert "film of" in md_cal.model
+    with atomic_h5(tmp_path / "md.h5") as f:
+        write_curve_group(f.create_group("md"), curves[0])
+    sub = film["substrate"]
+    as_file = ('[target.layers.calibrate]\ncurves = ["md.h5"]\ntip_material = "TIP"\n'
+               f'film_thickness = {film["thickness"]!r}\n'
+               f'substrate = {{ E = {sub["E"]!r}, nu = {sub["nu"]!r}, name = "{sub["name"]}" }}')
+    cals = {}
+    for tip in ("rigid", "diamond"):
+        sc = parse_pipeline(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-9, impactor_extra="",
+                                        film=as_file.replace("TIP", tip), want='["maxima"]'),
+                            "file.toml", tmp_path)
+        fsrc = sc.calibrations[0]
+        cals[tip] = calibration_unit(fsrc, None, fsrc.curves(tmp_path), 0.3, "komvopoulos-ye",
+                                     tmp_path, store)[0]
+    assert cals["rigid"].E.value == pytest.approx(md_cal.E.value, rel=1e-6)
+    assert cals["rigid"].sigma_y.value == pytest.approx(md_cal.sigma_y.value, rel=1e-6)
+    assert abs(cals["diamond"].E.value / md_cal.E.value - 1) > 0.05   # E_i = 1141 GPa counts

@@ -35,6 +35,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/md_overhead.py
 	$(BIN)/python benchmarks/particles_convergence.py
 	$(BIN)/python benchmarks/joint_calibration.py
+	$(BIN)/python benchmarks/md_closure.py
 
 clean:
 	rm -rf demo_output .pytest_cache

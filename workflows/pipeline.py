@@ -10,7 +10,8 @@ and an interrupted scene resumes where it stopped.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
@@ -65,13 +66,16 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     plan = plan_scene(pipeline, materials, h_star)
     scene = pipeline.completed(materials, h_star)
     say("plan:\n" + plan.text())
+    spread = parameter_spread(calibrations)
     impact_path = unit_dir(store, "impact", {"scene": impact_inputs(pipeline, materials,
                                                                     h_star),
-                                            "plan": plan.decisions})
+                                            "plan": plan.decisions, "spread": spread})
     record = done_record(impact_path)
     if record is None:
         impact_path.mkdir(parents=True, exist_ok=True)
-        impact_evaluation(scene, plan, impact_path)
+        perturbed = [pipeline.completed({**materials, k: replace(materials[k], **{name: value})},
+                                        h_star) for k, name, value in spread]
+        impact_evaluation(scene, plan, impact_path, perturbed)
         record = finish_unit(impact_path, {"decisions": plan.decisions})
         units[impact_path.name] = "ran"
     else:
@@ -79,6 +83,14 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     path = write_scene_result(out, pipeline, scene, plan, calibrations, checks, impact_path,
                               run_records)
     return SceneResult(path, plan, units)
+
+
+def parameter_spread(calibrations: dict[int, Calibration]) -> list[tuple[int, str, float]]:
+    """(layer, parameter, value + 1 std) of every identified E and sigma_y of the calibrated
+    layers: the shifts whose results give the impact results' standard deviations."""
+    return [(k, name, p.value + p.std) for k, cal in calibrations.items()
+            for name, p in (("E", cal.E), ("sigma_y", cal.sigma_y))
+            if p.identified and math.isfinite(p.std) and p.std > 0]
 
 
 def impact_inputs(pipeline: PipelineScene, materials, h_star=None) -> dict:

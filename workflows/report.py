@@ -11,6 +11,7 @@ import json
 from pathlib import Path
 
 import h5py
+import numpy as np
 
 from filmscale.continuum.calibration.result import CrossCheck
 from filmscale.core.errors import InputError
@@ -86,6 +87,22 @@ def _draw_map(fig, ax, group, key, label, scale):
     ax.set_ylabel("sphere radius R (um)")
 
 
+def _draw_band(ax, impact, key, label, scale):
+    """The map's ``key`` against V at the map radius nearest the scene's R, with the band
+    of +- 2 standard deviations from the calibrations (``map_std``)."""
+    V, R = impact["map/velocity"][()], impact["map/radius"][()]
+    i = int(np.argmin(np.abs(np.log(R / float(impact["point/radius"][()])))))
+    value = impact[f"map/{key}"][()][i] * scale
+    std = impact[f"map_std/{key}"][()][i] * scale
+    ax.fill_between(V, value - 2 * std, value + 2 * std, alpha=0.3,
+                    label="+- 2 std (calibration)")
+    ax.plot(V, value, label=f"R = {R[i] * 1e6:.3g} um")
+    ax.set_xscale("log")
+    ax.set_xlabel("impact velocity V (m/s)")
+    ax.set_ylabel(label)
+    ax.legend(fontsize=8)
+
+
 def _panel(draw, *args, size=(5, 3.6)) -> str:
     fig, ax = plt.subplots(figsize=size, constrained_layout=True)
     draw(ax, *args)
@@ -99,24 +116,39 @@ def _map_figure(group) -> str:
     return _png(fig)
 
 
+def _band_figure(impact) -> str:
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
+    for ax, panel in zip(axes, MAP_PANELS[:2]):
+        _draw_band(ax, impact, *panel)
+    return _png(fig)
+
+
 def write_figure(result, out) -> Path:
     """One PNG summary of a scene result: the first calibrated layer's curves with the
     calibrated forward model, the depth profile, and the map's maximum approach and
-    restitution (when there is a map)."""
+    restitution (when there is a map), with their +- 2 std bands at the scene's radius (when
+    the calibrations give standard deviations)."""
     result, out = Path(result), Path(out)
     with _result_file(result) as f:
         has_map = "map" in f["impact"]
-        fig, axes = plt.subplots(1, 4 if has_map else 2, figsize=(17 if has_map else 9, 3.8),
-                                 constrained_layout=True)
+        bands = has_map and "map_std" in f["impact"]
+        fig, axes = plt.subplots(1 + bands, 4 if has_map else 2,
+                                 figsize=(17 if has_map else 9, 3.8 * (1 + bands)),
+                                 constrained_layout=True, squeeze=False)
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
             rms = ", ".join(f"{c.rms:.0%}" for c in _checks(g))
-            _draw_calibration(axes[0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} GPa, "
-                              f"sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({rms} rms)")
-        _draw_profile(axes[1], f["profile"], float(f["impact/point/radius"][()]))
+            _draw_calibration(axes[0, 0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} "
+                              f"GPa, sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({rms} rms)")
+        _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
-            for ax, panel in zip(axes[2:], MAP_PANELS[:2]):
+            for ax, panel in zip(axes[0, 2:], MAP_PANELS[:2]):
                 _draw_map(fig, ax, f["impact/map"], *panel)
+        if bands:
+            for ax, panel in zip(axes[1, :2], MAP_PANELS[:2]):
+                _draw_band(ax, f["impact"], *panel)
+            for ax in axes[1, 2:]:
+                ax.axis("off")
     with atomic_path(out) as tmp:
         fig.savefig(tmp, format="png", dpi=90)
     plt.close(fig)
@@ -184,6 +216,11 @@ def write_report(result, out=None) -> Path:
                             ("quantity (SI)", "value")))
         if "map" in f["impact"]:
             parts.append(_map_figure(f["impact/map"]))
+        if "map_std" in f["impact"]:
+            parts += ["<p>Bands: +- 2 standard deviations of the impact results from the "
+                      "calibrated parameters' standard deviations (linearised, parameters "
+                      "taken as independent); <code>map_std</code> in the result file holds "
+                      "them for every map field.</p>", _band_figure(f["impact"])]
         scene = f["scene"][()]
         scene = scene.decode() if isinstance(scene, bytes) else str(scene)
         parts.append(f"<h2>Scene</h2><pre>{html.escape(scene)}</pre>")

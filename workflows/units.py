@@ -210,14 +210,15 @@ def joint_unit(name: str, parts, part_units: list[Path], store: Path
     return cal, path, reused
 
 
-def impact_evaluation(scene: Scene, plan: Plan, path: Path):
+def _impact_arrays(scene: Scene, plan: Plan, history: bool) -> dict[str, np.ndarray]:
+    """The point (and history, map) results of the plan's model on ``scene``."""
     from filmscale.continuum.contact.impact_map import impact_map
     model = chosen_model(scene, plan.decisions["target"], plan.decisions["law"])
     imp = scene.impactor
     one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
     arrays = {f"point/{k}": v for k, v in asdict(one).items()
               if isinstance(v, (int, float)) and not isinstance(v, bool)}
-    if plan.decisions.get("history"):
+    if history:
         hist = model.history(imp.velocity, imp.radius, imp.mass, rtol=scene.rtol)
         arrays.update({f"history/{k}": getattr(hist, k)
                        for k in ("time", "delta", "velocity", "force", "contact_radius")})
@@ -226,6 +227,29 @@ def impact_evaluation(scene: Scene, plan: Plan, path: Path):
         mp = impact_map(model, V, R, imp.mass)
         arrays.update({f"map/{k}": np.asarray(v) for k, v in mp.to_dict().items()
                        if np.asarray(v).dtype.kind in "fiub"})
+    return arrays
+
+
+#: point and map results that carry a standard deviation from the calibrations
+UNCERTAIN = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max",
+             "contact_time", "residual_depth", "restitution")
+
+
+def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=()):
+    """The impact results of the plan, and with ``perturbed`` (scenes with one calibrated
+    parameter raised by its standard deviation each) their standard deviation, linearised:
+    std^2 = sum over the parameters of (result(p + std_p) - result(p))^2, the parameters
+    taken as independent. Written as ``point_std/*`` and ``map_std/*`` beside the results."""
+    arrays = _impact_arrays(scene, plan, bool(plan.decisions.get("history")))
+    if perturbed:
+        keys = [k for k in arrays if k.split("/")[0] in ("point", "map")
+                and k.split("/")[1] in UNCERTAIN]
+        var = {k: np.zeros_like(np.asarray(arrays[k], dtype=float)) for k in keys}
+        for shifted in perturbed:
+            other = _impact_arrays(shifted, plan, False)
+            for k in keys:
+                var[k] += (np.asarray(other[k], dtype=float) - arrays[k])**2
+        arrays.update({k.replace("/", "_std/", 1): np.sqrt(v) for k, v in var.items()})
     with atomic_path(path / "impact.npz") as tmp:
         with open(tmp, "wb") as f:
             np.savez(f, **{k.replace("/", "__"): np.asarray(v) for k, v in arrays.items()})

@@ -409,3 +409,39 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
     assert cals["rigid"].E.value == pytest.approx(md_cal.E.value, rel=1e-6)
     assert cals["rigid"].sigma_y.value == pytest.approx(md_cal.sigma_y.value, rel=1e-6)
     assert abs(cals["diamond"].E.value / md_cal.E.value - 1) > 0.05   # E_i = 1141 GPa counts
+
+
+def test_the_calibrations_standard_deviations_reach_the_impact_map(tmp_path):
+    """A film calibrated from a curve file, 50 um thick (the film alone carries the
+    contact), hit slowly enough that nothing yields: Hertz, where delta_max ~ E*^(-2/5), so
+    raising E by its std s_E changes delta_max by exactly 1 - (1 + s_E/E)^(-2/5) of itself
+    and leaves the restitution at 1. The map's std must be that (1 % tolerance: the
+    substrate's Gao weight under a 50 um film is below 1e-3)."""
+    from filmscale.continuum.materials import DIAMOND
+    E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
+    law = contact_law("komvopoulos-ye-continuous")
+    E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
+    dy = float(law.first_yield(R, E_r, sy, nu).approach)
+    h = np.linspace(0.2 * dy, 20 * dy, 120)
+    P = law.contact(h, R, E_r, sy, nu).force
+    P = P + np.random.default_rng(2).normal(0.0, 0.01 * P.max(), h.size)
+    (tmp_path / "film.csv").write_text(
+        "h [nm], P [uN]\n" + "".join(f"{a * 1e9:.6f}, {b * 1e6:.8f}\n" for a, b in zip(h, P)))
+    film = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
+    text = BASE.format(R=1e-6, m=1e-12, V=1e-3, t=50e-6, impactor_extra="", film=film,
+                       want='["maxima", "map"]') + \
+        "[map]\nvelocity = [1e-4, 1e-3, 3]\nradius = [1e-7, 1e-6, 3]\n"
+    result = pl.run_scene(parse_pipeline(text, "s.toml", tmp_path), tmp_path / "store",
+                          tmp_path / "r.h5")
+    assert result.plan.decisions["law"] == "hertz"
+    with h5py.File(result.path, "r") as f:
+        g = f["calibration/0"]
+        s = g.attrs["E_std"] / g.attrs["E"]
+        delta = f["impact/map/delta_max"][()]
+        np.testing.assert_allclose(f["impact/map_std/delta_max"][()] / delta,
+                                   1 - (1 + s)**-0.4, rtol=0.01)
+        assert np.all(f["impact/map_std/restitution"][()] < 1e-9)
+        assert f["impact/point_std/delta_max"][()] / f["impact/point/delta_max"][()] == \
+            pytest.approx(1 - (1 + s)**-0.4, rel=0.01)
+    assert "+- 2 standard deviations" in write_report(result.path).read_text()
+    assert write_figure(result.path, tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"

@@ -100,6 +100,9 @@ def _draw_band(ax, impact, key, label, scale):
     ax.set_xscale("log")
     ax.set_xlabel("impact velocity V (m/s)")
     ax.set_ylabel(label)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        widest = np.nanmax(np.where(value != 0, 2 * std / np.abs(value), np.nan))
+    ax.set_title(f"{label}: 2 std at most {widest:.2%} of the value", fontsize=9)
     ax.legend(fontsize=8)
 
 

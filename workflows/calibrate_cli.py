@@ -29,8 +29,6 @@ def _substrate_arg(text: str):
 def cmd_calibrate(args) -> int:
     from filmscale.continuum.calibration.route import calibrate
     from filmscale.continuum.indentation.io import read_curves
-    from filmscale.continuum.calibration.result import CROSS_CHECK_TOLERANCE
-
     if (args.film_thickness is None) != (args.substrate is None):
         raise InputError("--film-thickness and --substrate go together (a film on a "
                          "substrate), or leave both out (a half-space)")
@@ -38,8 +36,7 @@ def cmd_calibrate(args) -> int:
     cal = calibrate(curves, nu=args.nu, tip=args.tip, tip_material=args.tip_material,
                     thickness=args.film_thickness, substrate=args.substrate, law=args.law,
                     layer=args.layer)
-    tolerance = CROSS_CHECK_TOLERANCE if args.tolerance is None else args.tolerance
-    check = cal.cross_check(tolerance)
+    check = cal.cross_check(args.tolerance, exclude=args.exclude)
     if args.json:
         print(dumps({
             "E": cal.E.value, "E_std": cal.E.std, "E_identified": cal.E.identified,
@@ -50,7 +47,9 @@ def cmd_calibrate(args) -> int:
             "h_star": None if cal.h_star is None else cal.h_star.value,
             "nu": cal.nu, "route": cal.route, "model": cal.model,
             "cross_check_rms": check.rms, "cross_check_tolerance": check.tolerance,
-            "passed": check.passed, "points": cal.points, "warnings": list(cal.warnings)}))
+            "passed": check.passed, "cross_check_noise": check.noise,
+            "cross_check_excluded": check.excluded, "cross_check_lacks": check.lacks,
+            "points": cal.points, "warnings": list(cal.warnings)}))
     else:
         print(cal.summary())
         print(f"  {check.text()}")
@@ -60,7 +59,7 @@ def cmd_calibrate(args) -> int:
 
 
 def add_commands(sub) -> None:
-    from filmscale.continuum.calibration.result import CROSS_CHECK_TOLERANCE
+    from filmscale.continuum.calibration.result import EXCLUDES, NOISE_FACTOR
     from filmscale.continuum.calibration.route import TIP_MATERIALS
     from filmscale.continuum.contact.laws import LAW_NAMES
     p = sub.add_parser(
@@ -87,7 +86,10 @@ def add_commands(sub) -> None:
     p.add_argument("--layer", default="layer", help="the layer's name in the output")
     p.add_argument("--tolerance", type=float,
                    help="cross-scale check: largest rms misfit over the largest load "
-                        f"(default {CROSS_CHECK_TOLERANCE:g})")
+                        f"(default {NOISE_FACTOR:g} x the curves' own load noise)")
+    p.add_argument("--exclude", choices=[e for e in EXCLUDES if e], default="",
+                   help="leave the loading up to the bottom of the first pop-in out of the "
+                        "check")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.set_defaults(func=cmd_calibrate)
 

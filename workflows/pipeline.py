@@ -58,8 +58,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
                 part_units, store)
             units[cal_path.name] = "reused" if reused else "ran"
         calibrations[k] = cal
-        checks[k] = [cal.cross_check(s.tolerance, s.label if len(sources) > 1 else "")
-                     for s in sources]
+        checks[k] = [cal.cross_check(s.tolerance, s.label if len(sources) > 1 else "",
+                                     s.exclude) for s in sources]
         say(cal.summary() + "".join(f"\n  {c.text()}" for c in checks[k]))
     materials = {k: c.material() for k, c in calibrations.items()}
     h_star = {k: c.h_star.value for k, c in calibrations.items() if c.h_star is not None}

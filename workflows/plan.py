@@ -74,8 +74,10 @@ class Plan:
 def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
     """The plan step of one calibration source, its cost from measured throughputs;
     ``joint``: one of several sources of its layer."""
-    fit = (f"then a calibration (sphere tips: least squares to the contact law; sharp tips: "
-           f"Dao reverse analysis) and a cross-scale check to {src.tolerance:.0%} rms")
+    fit = ("then a calibration (sphere tips: least squares to the contact law; sharp tips: "
+           "Dao reverse analysis) and a cross-scale check to "
+           + ("twice the curves' noise" if src.tolerance is None else f"{src.tolerance:.0%}")
+           + " rms" + (f", {src.exclude} range left out" if src.exclude else ""))
     spec = src.spec(base)
     if src.kind == "md":
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end

@@ -62,6 +62,23 @@ def _draw_calibration(ax, group, title: str):
     ax.legend(fontsize=8)
 
 
+def _draw_residuals(ax, group):
+    """(P_model - P) / P_max of each calibration curve against depth, with the first
+    cross-scale check's tolerance."""
+    curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
+    for i, key in enumerate(curves):
+        h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
+        ax.plot(h * 1e9, (F - P) / P.max(), ".", ms=3, color=f"C{i % 10}")
+    check = _checks(group)[0]
+    for sign in (-1, 1):
+        ax.axhline(sign * check.tolerance, color="0.4", ls="--", lw=1)
+    ax.axhline(0.0, color="0.7", lw=0.8)
+    ax.set_xlabel("depth h (nm)")
+    ax.set_ylabel("(model - curve) / P_max")
+    left_out = f"; {check.excluded} range left out of the check" if check.excluded else ""
+    ax.set_title(f"residuals, dashed: tolerance {check.tolerance:.1%}{left_out}", fontsize=9)
+
+
 def _draw_profile(ax, group, radius):
     d = group["delta"][()] * 1e9
     ax.semilogx(d, group["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
@@ -202,7 +219,8 @@ def write_report(result, out=None) -> Path:
                       f"{cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
                       *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
-                      _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}")]
+                      _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}"),
+                      _panel(_draw_residuals, g)]
             if cal.get("components"):
                 parts.append(_table(
                     [(c["source"], c["route"], f"{c['E']['value']:.4g}",

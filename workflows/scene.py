@@ -18,6 +18,7 @@ import numpy as np
 
 from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
                                  StackProfile)
+from filmscale.continuum.calibration.result import EXCLUDES
 from filmscale.continuum.calibration.route import TIP_MATERIALS
 from filmscale.continuum.contact.impact_map import axis
 from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
@@ -30,7 +31,6 @@ from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKN
                                    check_real, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_text
-from filmscale.continuum.calibration.result import CROSS_CHECK_TOLERANCE
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -312,10 +312,11 @@ class CalibrationSource:
     source: tuple[str, ...]      #: the preset or spec file, or the curve files
     np: int = 1
     tip: str = ""                #: indenter of curve files that do not name one
-    tolerance: float = CROSS_CHECK_TOLERANCE
+    tolerance: float | None = None   #: of the cross-scale check; None: from the noise
     tip_material: str = "diamond"
     film_thickness: float | None = None     #: m, curve files on a stated substrate
     substrate: ElasticPlastic | None = None
+    exclude: str = ""            #: range the cross-scale check leaves out ("pop-in")
 
     @property
     def label(self) -> str:
@@ -408,7 +409,8 @@ def filled_data(data: dict, materials: dict[int, ElasticPlastic],
     return data
 
 
-_SOURCE_KEYS = {"np", "tip", "tolerance", "tip_material", "film_thickness", "substrate"}
+_SOURCE_KEYS = {"np", "tip", "tolerance", "exclude", "tip_material", "film_thickness",
+                "substrate"}
 
 
 def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
@@ -435,8 +437,9 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
     tip = cal.get("tip", "")
     if tip:
         parse_tip(tip)
-    tol = check_real(f"{where}.tolerance", cal.get("tolerance", CROSS_CHECK_TOLERANCE),
-                     low=1e-4, high=1.0)
+    tol = None if "tolerance" not in cal else \
+        check_real(f"{where}.tolerance", cal["tolerance"], low=1e-4, high=1.0)
+    exclude = check_choice(f"{where}.exclude", cal.get("exclude", ""), EXCLUDES)
     tip_material = check_choice(f"{where}.tip_material",
                                 cal.get("tip_material", "diamond" if kind == "curves"
                                         else "rigid"), TIP_MATERIALS)
@@ -456,7 +459,7 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
         raw = check_keys(f"{where}.substrate", cal["substrate"], _MATERIAL_KEYS)
         substrate = _material(f"{where}.substrate", raw, require_yield="sigma_y" in raw)
     return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol,
-                             tip_material, thickness, substrate)
+                             tip_material, thickness, substrate, exclude)
 
 
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None

@@ -157,9 +157,12 @@ def write_figure(result, out) -> Path:
                                  constrained_layout=True, squeeze=False)
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
-            rms = ", ".join(f"{c.rms:.0%}" for c in _checks(g))
+            rms = ", ".join(f"{c.rms:.0%} rms" + (f" after the {c.excluded}" if c.excluded
+                                                   else "")
+                            + f", check {'passed' if c.passed else 'failed'}"
+                            for c in _checks(g))
             _draw_calibration(axes[0, 0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} "
-                              f"GPa, sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa ({rms} rms)")
+                              f"GPa, sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa\n({rms})")
         _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
             for ax, panel in zip(axes[0, 2:], MAP_PANELS[:2]):

@@ -166,14 +166,10 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, monkeypatch):
-    """A layer calibrated from a measured (text) sphere curve: the curve is made by the
-    contact law with E = 120 GPa, sigma_y = 3 GPa, a diamond tip and 1 % noise; the scene
-    recovers E and sigma_y within 3 std, the cross-scale check passes at 3 % (the misfit is
-    the 1 % noise), no LAMMPS is launched, and the stored plan keeps the calibration step."""
-    import filmscale.md.particle_run as particle_run
-    import filmscale.md.run as md_run
-    from filmscale.continuum.materials import DIAMOND, ElasticPlastic
+def _sphere_curve_file(tmp_path) -> tuple[float, float]:
+    """film.csv: the contact law's loading of E = 120 GPa, sigma_y = 3 GPa (nu 0.3) under a
+    5 um diamond sphere to 20 first-yield approaches, with 1 % load noise; (E, sigma_y)."""
+    from filmscale.continuum.materials import DIAMOND
     E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
     law = contact_law("komvopoulos-ye-continuous")
     E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
@@ -183,6 +179,17 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
     P = P + np.random.default_rng(2).normal(0.0, 0.01 * P.max(), h.size)
     (tmp_path / "film.csv").write_text(
         "h [nm], P [uN]\n" + "".join(f"{a * 1e9:.6f}, {b * 1e6:.8f}\n" for a, b in zip(h, P)))
+    return E, sy
+
+
+def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, monkeypatch):
+    """A layer calibrated from a measured (text) sphere curve: the curve is made by the
+    contact law with E = 120 GPa, sigma_y = 3 GPa, a diamond tip and 1 % noise; the scene
+    recovers E and sigma_y within 3 std, the cross-scale check passes at 3 % (the misfit is
+    the 1 % noise), no LAMMPS is launched, and the stored plan keeps the calibration step."""
+    import filmscale.md.particle_run as particle_run
+    import filmscale.md.run as md_run
+    E, sy = _sphere_curve_file(tmp_path)
     film = ('[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"\n'
             'tolerance = 0.03')
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
@@ -417,16 +424,7 @@ def test_the_calibrations_standard_deviations_reach_the_impact_map(tmp_path):
     raising E by its std s_E changes delta_max by exactly 1 - (1 + s_E/E)^(-2/5) of itself
     and leaves the restitution at 1. The map's std must be that (1 % tolerance: the
     substrate's Gao weight under a 50 um film is below 1e-3)."""
-    from filmscale.continuum.materials import DIAMOND
-    E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
-    law = contact_law("komvopoulos-ye-continuous")
-    E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
-    dy = float(law.first_yield(R, E_r, sy, nu).approach)
-    h = np.linspace(0.2 * dy, 20 * dy, 120)
-    P = law.contact(h, R, E_r, sy, nu).force
-    P = P + np.random.default_rng(2).normal(0.0, 0.01 * P.max(), h.size)
-    (tmp_path / "film.csv").write_text(
-        "h [nm], P [uN]\n" + "".join(f"{a * 1e9:.6f}, {b * 1e6:.8f}\n" for a, b in zip(h, P)))
+    E, sy = _sphere_curve_file(tmp_path)
     film = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
     text = BASE.format(R=1e-6, m=1e-12, V=1e-3, t=50e-6, impactor_extra="", film=film,
                        want='["maxima", "map"]') + \

@@ -144,15 +144,6 @@ def _file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def calibrate_curves(src: CalibrationSource, curves: list, nu: float, law: str, base: Path,
-                     record: dict | None = None) -> Calibration:
-    """The source's calibration (`filmscale.continuum.calibration.route.calibrate`): its tip
-    material, and for a film its thickness and substrate (``record``: the run unit's)."""
-    thickness, substrate = src.film(base, record)
-    return calibrate(curves, nu=nu, tip_material=src.tip_material, thickness=thickness,
-                     substrate=substrate, law=law, layer=src.name)
-
-
 def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, law: str
                      ) -> CalibrationPart:
     """A source's calibration as a joint calibration of its layer takes it (a film's
@@ -186,7 +177,9 @@ def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
 
 def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
                      law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
-    """Calibrate (or reuse the calibration of) a source's curves."""
+    """Calibrate (or reuse the calibration of) a source's curves
+    (`filmscale.continuum.calibration.calibrate`): its tip material, and for a film its
+    thickness and substrate (from the run unit's record for an MD source)."""
     origin = run_path.name if run_path is not None else \
         {f: _file_digest(Path(base) / f) for f in src.source}
     record = done_record(run_path) if run_path is not None else None
@@ -195,8 +188,9 @@ def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list
         "source": origin, "nu": nu, "law": law, "layer": src.name, "tip": src.tip,
         "tip_material": src.tip_material, "film_thickness": thickness,
         "substrate": None if substrate is None else asdict(substrate)})
-    cal, reused = _stored_calibration(
-        path, lambda: calibrate_curves(src, curves, nu, law, base, record))
+    cal, reused = _stored_calibration(path, lambda: calibrate(
+        curves, nu=nu, tip_material=src.tip_material, thickness=thickness, substrate=substrate,
+        law=law, layer=src.name))
     return cal, path, reused
 
 

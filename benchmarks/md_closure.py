@@ -59,7 +59,7 @@ def main(argv=None) -> None:
     for label, name in (("Cu 2.2 nm on Ni (quick)", "quick"), ("thick Cu", "thick.toml")):
         src = CalibrationSource(0, "Cu", "md", (name,), args.np, tip_material="rigid")
         start = time.perf_counter()
-        path, reused = run_unit(src, base, store)
+        path, reused = run_unit(src, src.spec(base), store)
         wall = time.perf_counter() - start
         record = done_record(path)
         curve = unit_curve(path)

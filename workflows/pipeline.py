@@ -19,7 +19,7 @@ from filmscale.workflows.plan import Plan, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
 from filmscale.workflows.units import (calibration_part, calibration_unit, done_record, finish_unit,
-                                       impact_evaluation, joint_unit, say, source_unit, unit_dir)
+                                       impact_evaluation, joint_unit, say, source_units, unit_dir)
 
 
 @dataclass(frozen=True)
@@ -42,13 +42,14 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
         nu = float(pipeline.data["target"]["layers"][k]["nu"])
         parts, part_units = [], []
         for src in sources:
-            run_path, reused, curves = source_unit(src, pipeline.base, store)
-            if run_path is not None:
-                units[run_path.name] = "reused" if reused else "ran"
+            runs, curves = source_units(src, pipeline.base, store)
+            for path, reused in runs:
+                units[path.name] = "reused" if reused else "ran"
+            if runs:
                 run_records[f"{src.kind}_{k}" + (f"_{len(part_units)}" if len(sources) > 1
-                                                 else "")] = done_record(run_path)
-            cal, cal_path, reused = calibration_unit(src, run_path, curves, nu, law,
-                                                     pipeline.base, store)
+                                                 else "")] = done_record(runs[0][0])
+            cal, cal_path, reused = calibration_unit(src, [path for path, _ in runs], curves,
+                                                     nu, law, pipeline.base, store)
             units[cal_path.name] = "reused" if reused else "ran"
             part_units.append(cal_path)
             parts.append((src, cal, curves))

@@ -81,9 +81,10 @@ def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
     spec = src.spec(base)
     if src.kind == "md":
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
-        cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np)
+        cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np) * src.seeds
+        ensemble = f", {src.seeds} seeds (one unit each)" if src.seeds > 1 else ""
         model = (f"MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, {src.np} "
-                 f"rank(s)) {fit}")
+                 f"rank(s){ensemble}) {fit}")
     elif src.kind == "particles":
         from filmscale.md.particle_inputs import estimated_steps
         n, steps = spec.grid.n_particles, estimated_steps(spec)

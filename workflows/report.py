@@ -185,6 +185,14 @@ def _number(value, fmt: str, unit: str = "") -> str:
     return f"{value:{fmt}}{unit}"
 
 
+def _pop_in_text(p: dict) -> str:
+    return (f"<p>Pop-in over {p['members']} seeds: load {_number(p['load'], '.4g')} +- "
+            f"{_number(p['load_std'], '.2g')} N at {_number(p['depth'], '.4g')} +- "
+            f"{_number(p['depth_std'], '.2g')} m; shear stress (0.31 p0) "
+            f"{_number(p['shear_stress'], '.4g')} +- {_number(p['shear_stress_std'], '.2g')} "
+            "Pa</p>")
+
+
 def _table(rows, header) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
     body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
@@ -221,6 +229,7 @@ def write_report(result, out=None) -> Path:
                       f"{_number(cal['rms'], '.2%')} of the largest load over "
                       f"{cal['points']} points</p>",
                       _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
+                      *([_pop_in_text(cal["pop_in"])] if cal.get("pop_in") else []),
                       *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
                       _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}"),
                       _panel(_draw_residuals, g)]

@@ -317,6 +317,7 @@ class CalibrationSource:
     film_thickness: float | None = None     #: m, curve files on a stated substrate
     substrate: ElasticPlastic | None = None
     exclude: str = ""            #: range the cross-scale check leaves out ("pop-in")
+    seeds: int = 1               #: MD ensemble members (one run unit each)
 
     @property
     def label(self) -> str:
@@ -330,6 +331,17 @@ class CalibrationSource:
         if self.kind == "particles":
             return _particle_spec(self.source[0], Path(base).resolve())
         return None
+
+    def member_specs(self, base: Path) -> list:
+        """The run's spec for each ensemble member: the spec's own seed, then seeds derived
+        from it (`md.indentation.derive_seeds`), one run unit each."""
+        spec = self.spec(base)
+        if self.seeds == 1:
+            return [spec]
+        from filmscale.md.indentation import derive_seeds
+        master = spec.protocol.seed
+        derived = derive_seeds(master, tuple(f"member{i}" for i in range(1, self.seeds)))
+        return [spec] + [spec.with_protocol(seed=s) for s in derived.values()]
 
     def films(self, spec, where: str = "calibrate") -> tuple:
         """The films of a run's spec, top first: the calibrated layer is the top one, on the
@@ -410,7 +422,7 @@ def filled_data(data: dict, materials: dict[int, ElasticPlastic],
 
 
 _SOURCE_KEYS = {"np", "tip", "tolerance", "exclude", "tip_material", "film_thickness",
-                "substrate"}
+                "substrate", "seeds"}
 
 
 def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
@@ -458,8 +470,14 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
                                low_open=True, high=THICKNESS_MAX, unit="m")
         raw = check_keys(f"{where}.substrate", cal["substrate"], _MATERIAL_KEYS)
         substrate = _material(f"{where}.substrate", raw, require_yield="sigma_y" in raw)
+    seeds = cal.get("seeds", 1)
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= 64:
+        raise InputError(f"{where}.seeds = {seeds!r} must be an integer in [1, 64]")
+    if seeds > 1 and kind != "md":
+        raise InputError(f"{where}.seeds: ensembles are of MD runs (thermal noise and the "
+                         f"pop-in load vary with the seed); a {kind} source takes none")
     return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol,
-                             tip_material, thickness, substrate, exclude)
+                             tip_material, thickness, substrate, exclude, seeds)
 
 
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale import __version__
+from filmscale.continuum.calibration.ensemble import calibrate_ensemble
 from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration
 from filmscale.continuum.calibration.route import calibrate, sharp_tip_of, tip_counterpart
@@ -108,10 +109,9 @@ def run_particle_model(spec, path: Path, ranks: int):
 _RUNNERS = {"md": ("md-indent", run_md), "particles": ("particle-indent", run_particle_model)}
 
 
-def run_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, bool]:
-    """Run (or resume, or reuse) the MD or particle-model indentation of a source."""
+def run_unit(src: CalibrationSource, spec, store: Path) -> tuple[Path, bool]:
+    """Run (or resume, or reuse) one MD or particle-model indentation of a source."""
     kind, runner = _RUNNERS[src.kind]
-    spec = src.spec(base)
     path = unit_dir(store, kind, {"spec": spec.to_dict(), "np": src.np})
     if done_record(path) is not None:
         return path, True
@@ -122,13 +122,14 @@ def run_unit(src: CalibrationSource, base: Path, store: Path) -> tuple[Path, boo
     return path, False
 
 
-def source_unit(src: CalibrationSource, base: Path, store: Path
-                ) -> tuple[Path | None, bool, list]:
-    """The source's run unit (None for curve files), whether it was reused, its curves."""
+def source_units(src: CalibrationSource, base: Path, store: Path
+                 ) -> tuple[list[tuple[Path, bool]], list]:
+    """The source's run units, each with whether it was reused (none for curve files: they
+    are read), and its curves: one per run unit (an MD ensemble has one per seed)."""
     if src.kind == "curves":
-        return None, True, src.curves(base)
-    path, reused = run_unit(src, base, store)
-    return path, reused, [unit_curve(path)]
+        return [], src.curves(base)
+    units = [run_unit(src, spec, store) for spec in src.member_specs(base)]
+    return units, [unit_curve(path) for path, _ in units]
 
 
 def unit_curve(path: Path):
@@ -175,20 +176,22 @@ def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
     return Calibration.from_dict(record, fitted), reused
 
 
-def calibration_unit(src: CalibrationSource, run_path: Path | None, curves: list, nu: float,
+def calibration_unit(src: CalibrationSource, run_paths: list[Path], curves: list, nu: float,
                      law: str, base: Path, store: Path) -> tuple[Calibration, Path, bool]:
     """Calibrate (or reuse the calibration of) a source's curves
-    (`filmscale.continuum.calibration.calibrate`): its tip material, and for a film its
-    thickness and substrate (from the run unit's record for an MD source)."""
-    origin = run_path.name if run_path is not None else \
+    (`filmscale.continuum.calibration.calibrate`; an MD ensemble through
+    `calibrate_ensemble`): its tip material, and for a film its thickness and substrate
+    (from the run unit's record for an MD source)."""
+    origin = [p.name for p in run_paths] if run_paths else \
         {f: _file_digest(Path(base) / f) for f in src.source}
-    record = done_record(run_path) if run_path is not None else None
+    record = done_record(run_paths[0]) if run_paths else None
     thickness, substrate = src.film(base, record)
     path = unit_dir(store, "calibration", {
         "source": origin, "nu": nu, "law": law, "layer": src.name, "tip": src.tip,
         "tip_material": src.tip_material, "film_thickness": thickness,
         "substrate": None if substrate is None else asdict(substrate)})
-    cal, reused = _stored_calibration(path, lambda: calibrate(
+    how = calibrate_ensemble if len(run_paths) > 1 else calibrate
+    cal, reused = _stored_calibration(path, lambda: how(
         curves, nu=nu, tip_material=src.tip_material, thickness=thickness, substrate=substrate,
         law=law, layer=src.name))
     return cal, path, reused

@@ -76,6 +76,11 @@ class Calibration:
     curve_sources: tuple[str, ...] = ()
     #: each source's own calibration, as dicts with its ``source`` (joint calibrations)
     components: tuple = ()
+    #: the curves' load noise over the largest load when known beyond the curves themselves
+    #: (an MD ensemble's seed-to-seed scatter); NaN: estimated from the curves
+    curve_noise: float = math.nan
+    #: an ensemble's pop-in statistics (`ensemble.PopInStatistics` as a dict), or None
+    pop_in: dict | None = None
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:
@@ -100,6 +105,7 @@ class Calibration:
         for key in ("sources", "warnings", "curve_sources", "components"):
             d[key] = tuple(d.get(key, ()))
         d["rms"] = _float(d["rms"])
+        d["curve_noise"] = _float(d.get("curve_noise"))
         return cls(**d, fitted_curves=tuple(fitted_curves))
 
     def cross_check(self, tolerance: float | None = None, source: str = "",
@@ -121,10 +127,13 @@ class Calibration:
         if not curves:
             raise InputError(f"calibration of {self.layer} holds no fitted curves"
                              + (f" of {source}" if source else ""))
-        noise = float(np.sqrt(np.mean([(noise_sigma(P) / P.max())**2 for h, P, F in curves])))
+        ensemble = math.isfinite(self.curve_noise)
+        noise = self.curve_noise if ensemble else float(np.sqrt(np.mean(
+            [(noise_sigma(P) / P.max())**2 for h, P, F in curves])))
         if tolerance is None:
             tolerance = max(NOISE_FACTOR * noise, MIN_TOLERANCE)
-            basis = f"{NOISE_FACTOR:g} x the curves' noise {noise:.2%}"
+            basis = (f"{NOISE_FACTOR:g} x the " + ("seed-to-seed scatter" if ensemble else
+                                                   "curves' noise") + f" {noise:.2%}")
         else:
             tolerance = check_real("tolerance", tolerance, low=0.0, low_open=True, high=1.0)
             basis = "stated"
@@ -169,6 +178,12 @@ class Calibration:
                          f"{self.points} points")
         if self.h_star is not None:
             lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
+        if self.pop_in:
+            p = self.pop_in
+            lines.append(f"  pop-in  = {p['load']:.4g} +- {p['load_std']:.2g} N at "
+                         f"{p['depth']:.4g} +- {p['depth_std']:.2g} m; shear stress "
+                         f"{p['shear_stress']:.4g} +- {p['shear_stress_std']:.2g} Pa "
+                         f"({p['members']} members)")
         for c in self.components:
             lines.append(f"  from {c['source']} ({c['route']}): E {c['E']['value']:.4g} Pa "
                          f"alone, {c['E_joint']['value']:.4g} Pa in the joint fit; sigma_y "

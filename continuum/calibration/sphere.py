@@ -91,9 +91,9 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     if len(radii) != len(curves):
         raise InputError(f"R has {len(radii)} values for {len(curves)} curves")
     law = contact_law(law) if isinstance(law, str) else law
-    data = []
     for c in curves:
         check_tip_shape(c, "sphere")
+    data = []
     for c, r in zip(curves, radii):
         h, P, pop = loading_points(c, with_pop_in=True)
         data.append((h, P, sphere_radius(c, r), float(P.max()), pop))

@@ -384,7 +384,7 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
     own elastic constants of its film and substrate."""
     from filmscale.continuum.indentation.io import write_curve_group
     from filmscale.core.files import atomic_h5
-    from filmscale.workflows.units import calibration_unit, done_record, source_unit
+    from filmscale.workflows.units import calibration_unit, done_record, source_units
 
     store = tmp_path / "store"
     (tmp_path / "film.toml").write_text(FILM_SPEC)
@@ -392,9 +392,10 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
                                     film='[target.layers.calibrate]\nmd = "film.toml"',
                                     want='["maxima"]'), "md.toml", tmp_path)
     src = md.calibrations[0]
-    run_path, _, curves = source_unit(src, tmp_path, store)
-    md_cal = calibration_unit(src, run_path, curves, 0.3, "komvopoulos-ye", tmp_path, store)[0]
-    record = done_record(run_path)
+    runs, curves = source_units(src, tmp_path, store)
+    md_cal = calibration_unit(src, [runs[0][0]], curves, 0.3, "komvopoulos-ye", tmp_path,
+                              store)[0]
+    record = done_record(runs[0][0])
     assert set(record["potential_elastic"]) == {"top", "substrate"}
     film = record["film"]
     assert film["thickness"] > 0 and 50e9 < film["substrate"]["E"] < 400e9
@@ -411,7 +412,7 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
                                         film=as_file.replace("TIP", tip), want='["maxima"]'),
                             "file.toml", tmp_path)
         fsrc = sc.calibrations[0]
-        cals[tip] = calibration_unit(fsrc, None, fsrc.curves(tmp_path), 0.3, "komvopoulos-ye",
+        cals[tip] = calibration_unit(fsrc, [], fsrc.curves(tmp_path), 0.3, "komvopoulos-ye",
                                      tmp_path, store)[0]
     assert cals["rigid"].E.value == pytest.approx(md_cal.E.value, rel=1e-6)
     assert cals["rigid"].sigma_y.value == pytest.approx(md_cal.sigma_y.value, rel=1e-6)
@@ -443,3 +444,31 @@ def test_the_calibrations_standard_deviations_reach_the_impact_map(tmp_path):
             pytest.approx(1 - (1 + s)**-0.4, rel=0.01)
     assert "+- 2 standard deviations" in write_report(result.path).read_text()
     assert write_figure(result.path, tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_an_md_ensemble_runs_one_unit_per_seed_and_reports_its_scatter(tmp_path):
+    """seeds = 2 on the ci preset: two MD units (the spec's seed and one derived from it,
+    different curves), one ensemble calibration whose E std is the seed-to-seed standard
+    error (|E_1 - E_2| / 2 for two members), the pop-in statistics in the result file, and
+    the check's tolerance from the seed-to-seed scatter. seeds on a curve source is refused."""
+    from filmscale.continuum.calibration import calibrate
+    from filmscale.workflows.units import unit_curve
+    text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-9, impactor_extra="",
+                       film='[target.layers.calibrate]\nmd = "ci"\nseeds = 2',
+                       want='["maxima"]')
+    sc = parse_pipeline(text, "ens.toml", tmp_path)
+    result = pl.run_scene(sc, tmp_path / "store", tmp_path / "r.h5")
+    md_units = sorted(k for k in result.units if k.startswith("md-indent"))
+    assert len(md_units) == 2
+    curves = [unit_curve(tmp_path / "store" / k) for k in md_units]
+    assert not np.array_equal(curves[0].P, curves[1].P)
+    E = [calibrate(c, nu=0.3, tip_material="rigid").E.value for c in curves]
+    with h5py.File(result.path, "r") as f:
+        cal = json.loads(f["calibration/0"].attrs["calibration"])
+        assert cal["E"]["value"] == pytest.approx(np.mean(E), rel=1e-9)
+        assert cal["E"]["std"] == pytest.approx(abs(E[0] - E[1]) / 2, rel=1e-9)
+        assert cal["pop_in"] is None or cal["pop_in"]["members"] <= 2
+        (check,) = json.loads(f["calibration/0"].attrs["cross_check"])
+        assert "seed-to-seed scatter" in check["basis"]
+    with pytest.raises(InputError, match="ensembles are of MD runs"):
+        scene(film='[target.layers.calibrate]\ncurves = ["a.csv"]\nseeds = 3')

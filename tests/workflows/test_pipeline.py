@@ -472,3 +472,23 @@ def test_an_md_ensemble_runs_one_unit_per_seed_and_reports_its_scatter(tmp_path)
         assert "seed-to-seed scatter" in check["basis"]
     with pytest.raises(InputError, match="ensembles are of MD runs"):
         scene(film='[target.layers.calibrate]\ncurves = ["a.csv"]\nseeds = 3')
+
+
+@pytest.mark.parametrize("keys, message", [
+    ('curves = ["a.csv"]\nfilm_thickness = 2e-9', "film_thickness and substrate go together"),
+    ('curves = ["a.csv"]\nfilm_thickness = -2e-9\nsubstrate = { E = 200e9, nu = 0.3 }',
+     r"film_thickness = -2e-09 m is outside"),
+    ('curves = ["a.csv"]\nfilm_thickness = 2e-9\nsubstrate = { E = 200e9 }',
+     r"substrate.nu is missing"),
+    ('curves = ["a.csv"]\nfilm_thickness = 2e-9\nsubstrate = { E = 200e9, nu = 0.3, x = 1 }',
+     r"unknown key target.layers\[0\].calibrate.substrate.x"),
+    ('md = "ci"\nfilm_thickness = 2e-9\nsubstrate = { E = 200e9, nu = 0.3 }',
+     "an md run knows its own film"),
+    ('md = "ci"\ntip_material = "diamond"', "the tips of MD and particle runs are rigid"),
+    ('curves = ["a.csv"]\ntip_material = "steel"', r"tip_material = 'steel' is not one of"),
+    ('md = "ci"\nseeds = 0', r"seeds = 0 must be an integer in \[1, 64\]"),
+    ('md = "ci"\nexclude = "everything"', r"exclude = 'everything' is not one of"),
+])
+def test_new_calibration_keys_are_checked_before_any_run(keys, message):
+    with pytest.raises(InputError, match=message):
+        scene(film="[target.layers.calibrate]\n" + keys)

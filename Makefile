@@ -36,6 +36,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/particles_convergence.py
 	$(BIN)/python benchmarks/joint_calibration.py
 	$(BIN)/python benchmarks/md_closure.py
+	$(BIN)/python benchmarks/md_speed_vs_error.py
 
 clean:
 	rm -rf demo_output .pytest_cache

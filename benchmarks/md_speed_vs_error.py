@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.calibration import calibrate
-from filmscale.continuum.indentation.spherical import detect_load_drop
+from filmscale.continuum.indentation.spherical import elastic_limit
 from filmscale.md.spec import PRESETS, spec_from_mapping
 from filmscale.workflows.scene import CalibrationSource
 from filmscale.workflows.units import done_record, run_unit, unit_curve
@@ -49,11 +49,11 @@ def _spec(changes: dict):
 
 def _figures(curve, R: float) -> dict:
     cal = calibrate(curve, nu=0.3, tip_material="rigid", law="komvopoulos-ye-continuous")
-    drop = detect_load_drop(curve, min_drop=0.02 * float(np.max(curve.P)))
+    peak = elastic_limit(curve)
     k = int(np.argmax(curve.P))
     h = float(curve.h[k])
     return {"E_r": cal.E.value / (1 - 0.3**2),
-            "pop_in": drop.P if drop is not None else math.nan,
+            "pop_in": float(curve.P[peak]) if peak is not None else math.nan,
             "p_m": float(curve.P[k]) / (math.pi * (2 * R * h - h * h))}
 
 

@@ -361,9 +361,9 @@ class CalibrationSource:
         if self.kind == "curves":
             return self.film_thickness, self.substrate
         if self.kind == "particles":
-            films = self.films(self.spec(base))
-            target = self.spec(base).target
-            return (films[0][0], target.substrate.material) if films else (None, None)
+            spec = self.spec(base)
+            films = self.films(spec)
+            return (films[0][0], spec.target.substrate.material) if films else (None, None)
         film = (record or {}).get("film")
         if not film:
             return None, None

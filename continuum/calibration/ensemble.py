@@ -20,7 +20,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.spherical import detect_load_drop, pop_in_shear_stress
+from filmscale.continuum.indentation.spherical import elastic_limit, pop_in_shear_stress
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.materials import reduced_modulus
 from filmscale.core.errors import InputError
@@ -71,13 +71,12 @@ def ensemble_mean(curves) -> tuple[LoadDisplacementCurve, np.ndarray]:
 def _pop_ins(curves, E_star, nu, indenter, thickness, substrate) -> PopInStatistics | None:
     rows = []
     for c in curves:
-        drop = detect_load_drop(c, min_drop=0.02 * float(np.max(c.P)))
-        if drop is None or not isinstance(c.indenter, Sphere):
+        peak = elastic_limit(c)
+        if peak is None or not isinstance(c.indenter, Sphere):
             continue
-        R = c.indenter.R
-        felt = SphereTarget(nu, indenter, thickness, substrate).properties(drop.h, R, E_star,
-                                                                           1.0)[0]
-        rows.append((drop.P, drop.h, pop_in_shear_stress(drop.P, float(felt), R)))
+        R, P, h = c.indenter.R, float(c.P[peak]), float(c.h[peak])
+        felt = SphereTarget(nu, indenter, thickness, substrate).properties(h, R, E_star, 1.0)[0]
+        rows.append((P, h, pop_in_shear_stress(P, float(felt), R)))
     if not rows:
         return None
     a = np.array(rows)

@@ -9,7 +9,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.spherical import detect_load_drop
+from filmscale.continuum.indentation.spherical import elastic_limit
 from filmscale.continuum.materials import ElasticPlastic, modulus_from_reduced
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
@@ -226,15 +226,13 @@ class CrossCheck:
 
 def _pop_in_bottom(h, P) -> int | None:
     """Index of the bottom of the first pop-in's load drop on a loading record: the first
-    point after the peak that has lost 80 % of the load the peak loses at most afterwards
-    (the load then fluctuates on its flow plateau); None without a pop-in (a drop of 2 % of
-    the largest load, as `elastic_limit`)."""
-    curve = LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int))
-    drop = detect_load_drop(curve, min_drop=0.02 * float(P.max()))
-    if drop is None:
+    point after the peak (`elastic_limit`) that has lost 80 % of the load the peak loses at
+    most afterwards (the load then fluctuates on its flow plateau); None without a pop-in."""
+    peak = elastic_limit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)))
+    if peak is None:
         return None
-    after = P[drop.index:]
-    return drop.index + int(np.argmax(after <= after[0] - 0.8 * (after[0] - after.min())))
+    after = P[peak:]
+    return peak + int(np.argmax(after <= after[0] - 0.8 * (after[0] - after.min())))
 
 
 def modulus_parameter(E_star, std_lnE, nu, compliance) -> Parameter:

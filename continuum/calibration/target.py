@@ -99,6 +99,7 @@ class SphereTarget:
     def hertz(self, delta, R, E_star):
         """Hertz's force (N) with the reduced modulus felt at each approach (Johnson 1985):
         the elastic loading before a pop-in."""
+        # the reduced modulus does not depend on sigma_y: any finite value serves
         return hertz_force(delta, R, self.properties(delta, R, E_star, 1.0, False)[0])
 
     def describe(self) -> str:

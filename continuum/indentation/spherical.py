@@ -226,9 +226,11 @@ def loading_points(curve: LoadDisplacementCurve, with_pop_in=False):
     return h[keep], P[keep], (pop if pop is not None and pop >= 0 else None)
 
 
-#: loading exponents m of P ~ h^m that each tip shape can give: a sphere 1.5 (Hertz)
-#: falling towards 1 when fully plastic, a little above 1.5 on a stiffer substrate; a sharp
-#: tip 2 at every depth (Kick's law), elastic or plastic, a little off it on a substrate
+#: loading exponents m of P ~ h^m that each tip shape can give: a sphere 1.5 (Hertz, Johnson
+#: 1985) falling towards 1 when fully plastic (p_m constant, A ~ 2 pi R h), a little above
+#: 1.5 on a stiffer substrate; a sharp tip 2 at every depth (Kick's law, P = C h^2, Dao et al.
+#: 2001), elastic or plastic. Measured on the package's curves: spheres 1.25-1.51 (the MD
+#: demo curve 1.51, layered-law curves 1.36-1.47), Dao's Berkovich curves 2.00
 EXPONENT_RANGES = {"sphere": (0.8, 1.8), "sharp": (1.7, 2.4)}
 
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.elasticity import (IsotropicAverage, cubic_stiffness, hexagonal_stiffness,
-                                            stiffness_from_stress_strain, voigt_reuss_hill,
-                                            zener_ratio)
+                                            indentation_modulus, stiffness_from_stress_strain,
+                                            voigt_reuss_hill, zener_ratio)
 from filmscale.continuum.materials import DIAMOND, reduced_modulus
 from filmscale.core.errors import InputError
 
@@ -166,3 +166,59 @@ def test_bad_stiffness_raises_input_error():
         stiffness_from_stress_strain(np.eye(6)[:5], np.eye(6)[:5])
     with pytest.raises(InputError, match="C11"):
         cubic_stiffness("a", 1.0, 1.0)
+
+
+@pytest.mark.parametrize("E, nu", [(70e9, 0.33), (210e9, 0.29), (5e9, -0.2)])
+@pytest.mark.parametrize("normal", [(0, 0, 1), (1, 1, 1), (0.3, -1.2, 0.7)])
+def test_indentation_modulus_of_an_isotropic_solid_is_its_plane_strain_modulus(E, nu, normal):
+    # every in-plane direction gives L^-1_nn = 2 (1 - nu^2)/E: only round-off remains
+    assert indentation_modulus(_isotropic(E, nu), normal) == pytest.approx(E / (1 - nu**2),
+                                                                          rel=1e-10)
+
+
+def test_indentation_modulus_along_a_hexagonal_axis_matches_its_closed_form():
+    # transverse isotropy about the indentation axis: Delafargue & Ulm, Int. J. Solids Struct.
+    # 41 (2004) 7351, M = 2 sqrt((C11 C33 - C13^2)/C11 / (1/C44 + 2/(sqrt(C11 C33) + C13)));
+    # exact for this symmetry (the contact is circular), so only the quadrature's error
+    # remains (1e-8). Titanium, Simmons & Wang (1971).
+    c11, c12, c13, c33, c44 = 162.4 * GPa, 92.0 * GPa, 69.0 * GPa, 180.7 * GPa, 46.7 * GPa
+    closed = 2 * np.sqrt((c11 * c33 - c13**2) / c11 / (1 / c44 + 2 / (np.sqrt(c11 * c33) + c13)))
+    C = hexagonal_stiffness(c11, c12, c13, c33, c44)
+    assert indentation_modulus(C, (0, 0, 1)) == pytest.approx(closed, rel=1e-8)
+
+
+def _rotated(C, Q):
+    """C in axes rotated by the orthogonal matrix Q (rows: the new axes in the old frame)."""
+    from filmscale.continuum.elasticity import _VOIGT
+    c = C[_VOIGT[:, :, None, None], _VOIGT[None, None, :, :]]
+    c = np.einsum("ai,bj,ck,dl,ijkl->abcd", Q, Q, Q, Q, c)
+    out = np.empty((6, 6))
+    pairs = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
+    for I, (i, j) in enumerate(pairs):
+        for J, (k, l) in enumerate(pairs):
+            out[I, J] = c[i, j, k, l]
+    return out
+
+
+def test_copper_indentation_modulus_orders_the_faces_and_follows_rotations():
+    C = cubic_stiffness(CU["C11"], CU["C12"], CU["C44"])
+    m001, m110, m111 = (indentation_modulus(C, n) for n in ((0, 0, 1), (1, 1, 0), (1, 1, 1)))
+    hill = voigt_reuss_hill(C).plane_strain_modulus()
+    # a Zener ratio above 1 makes (001) the most compliant face and (111) the stiffest
+    # (Vlassak & Nix 1994, their cubic results); the polycrystal lies between
+    assert m001 < m110 < m111 and m001 < hill < m111
+    # cubic symmetry: the three cube faces are one face (quadrature in different frames)
+    for n in ((1, 0, 0), (0, 1, 0), (0, 0, -1)):
+        assert indentation_modulus(C, n) == pytest.approx(m001, rel=1e-8)
+    # a rotation of crystal and normal together changes nothing: (111) made the z axis
+    z = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
+    x = np.array([1.0, -1.0, 0.0]) / np.sqrt(2.0)
+    Q = np.array([x, np.cross(z, x), z])
+    assert indentation_modulus(_rotated(C, Q), (0, 0, 1)) == pytest.approx(m111, rel=1e-8)
+
+
+@pytest.mark.parametrize("normal", [(0, 0, 0), (1, 2), "001", (np.nan, 0, 1)])
+def test_indentation_modulus_refuses_a_bad_normal(normal):
+    C = cubic_stiffness(CU["C11"], CU["C12"], CU["C44"])
+    with pytest.raises(InputError, match="normal"):
+        indentation_modulus(C, normal)

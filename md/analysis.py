@@ -8,6 +8,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from filmscale.continuum.calibration.sphere import HERTZ_FRACTION
+from filmscale.continuum.elasticity import indentation_modulus
 from filmscale.continuum.indentation import OliverPharrResult, hertz_fit, oliver_pharr
 from filmscale.continuum.indentation.curves import LOAD, UNLOAD, LoadDisplacementCurve
 from filmscale.continuum.indentation.spherical import detect_load_drop, pop_in_shear_stress
@@ -17,6 +19,7 @@ from filmscale.core.noise import noise_sigma
 from filmscale.md.contact import ContactAnalysis, read_dumps
 from filmscale.md.elastic import ElasticConstants
 from filmscale.md.run import IndentRun
+from filmscale.md.structures import surface_normal
 
 #: Agreement between the Hertzian segment and E* of the potential's Hill-averaged elastic
 #: constants: an anisotropic crystal under a few-nm sphere departs from isotropic Hertz by
@@ -35,8 +38,11 @@ class IndentAnalysis:
     E_r_hertz: float          #: reduced modulus of the elastic segment (Hertz fit), Pa
     hertz_rms: float          #: rms misfit of that fit / its largest load
     hertz_points: int         #: points in that fit
+    hertz_offset: float       #: the depth zero h0 fitted with it (P ~ (h - h0)^1.5), m
     E_star: float             #: E/(1-nu^2) of the potential's Hill average (top layer), Pa
     hertz_ratio: float        #: E_r_hertz / E_star
+    M: float                  #: the top layer's indentation modulus on its surface plane, Pa
+    hertz_ratio_M: float      #: E_r_hertz / M (the single crystal's own reference)
     popin_load: float         #: load at the first pop-in (load drop), N
     popin_depth: float        #: depth at that pop-in, m
     popin_drop: float         #: load lost in it, N
@@ -58,8 +64,9 @@ class IndentAnalysis:
         lines = [f"P_max {self.P_max * nN:.2f} nN at h_max {self.h_max * nm:.3f} nm; "
                  f"residual depth {self.residual_depth * nm:.3f} nm",
                  f"Hertz: E_r {self.E_r_hertz * GPa:.1f} GPa over {self.hertz_points} points "
-                 f"(rms {self.hertz_rms:.3f}); potential's E* {self.E_star * GPa:.1f} GPa; "
-                 f"ratio {self.hertz_ratio:.3f}"]
+                 f"(rms {self.hertz_rms:.3f}, zero {self.hertz_offset * 1e10:+.2f} A); potential's E* {self.E_star * GPa:.1f} GPa "
+                 f"(ratio {self.hertz_ratio:.3f}), indentation modulus of the surface "
+                 f"{self.M * GPa:.1f} GPa (ratio {self.hertz_ratio_M:.3f})"]
         if math.isfinite(self.popin_load):
             lines.append(f"pop-in at {self.popin_load * nN:.2f} nN, h {self.popin_depth * nm:.3f}"
                          f" nm (drop {self.popin_drop * nN:.2f} nN); max shear stress "
@@ -117,16 +124,20 @@ def _contact_at_end_of_hold(run: IndentRun):
 
 def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
                         *, popin_threshold: float = 6.0) -> IndentAnalysis:
-    """Analyse a finished run; ``elastic`` (the top layer's constants) gives E* and the Hertz
-    ratio."""
+    """Analyse a finished run; ``elastic`` (the top layer's constants) gives E*, the
+    indentation modulus M of the surface and the Hertz ratios. The Hertz fit takes the loading
+    below `HERTZ_FRACTION` of the pop-in load and fits the depth zero with E_r, as the
+    calibration of a rigid tip does."""
     curve = run.curve.finite()
     spec = run.spec
     loading = curve.P[curve.segment == LOAD]
     noise = noise_sigma(loading[loading > 0])
     drop = detect_load_drop(curve, threshold=popin_threshold)
     E_star = elastic.E_star if elastic is not None else math.nan
+    M = (indentation_modulus(elastic.C, surface_normal(spec.slab.orientation))
+         if elastic is not None else math.nan)
     nan = math.nan
-    E_r = rms = shear = nan
+    E_r = rms = shear = offset = nan
     n_fit = 0
     if isinstance(spec.indenter.tip, Sphere):
         R = spec.indenter.tip.R
@@ -135,8 +146,9 @@ def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
         elastic_part = LoadDisplacementCurve(curve.h[:end], curve.P[:end],
                                              segment=np.full(end, LOAD))
         try:
-            fit = hertz_fit(elastic_part, R=R, P_limit=float(elastic_part.P.max()))
-            E_r, rms, n_fit = fit.E_r, fit.rms, fit.n
+            limit = HERTZ_FRACTION * drop.P if drop is not None else elastic_part.P.max()
+            fit = hertz_fit(elastic_part, R=R, P_limit=float(limit), fit_offset=True)
+            E_r, rms, n_fit, offset = fit.E_r, fit.rms, fit.n, fit.h_0
         except InputError:
             pass
         if drop is not None and math.isfinite(E_r):
@@ -154,7 +166,8 @@ def analyze_indentation(run: IndentRun, elastic: ElasticConstants | None = None,
     return IndentAnalysis(
         P_max=float(curve.P.max()), h_max=float(curve.h.max()),
         residual_depth=residual_depth(curve, noise), E_r_hertz=E_r, hertz_rms=rms,
-        hertz_points=n_fit, E_star=E_star, hertz_ratio=E_r / E_star,
+        hertz_points=n_fit, hertz_offset=offset, E_star=E_star, hertz_ratio=E_r / E_star, M=M,
+        hertz_ratio_M=E_r / M,
         popin_load=drop.P if drop else nan, popin_depth=drop.h if drop else nan,
         popin_drop=drop.drop if drop else nan, popin_shear_stress=shear, load_noise=noise,
         op=op, contact_area_md=area, contact_radius_md=radius, pile_up=pile,

@@ -33,6 +33,17 @@ CUBIC_ORIENTATIONS = {
     "111": ([1, -1, 0], [1, 1, -2], [1, 1, 1]),
 }
 STRUCTURES = ("fcc", "bcc", "hcp")
+
+
+def surface_normal(orientation: str) -> tuple[float, float, float]:
+    """The surface normal of an orientation in the crystal axes in which `md.elastic`
+    computes C (cube axes; for hcp, the c axis is z)."""
+    if orientation == "0001":
+        return (0.0, 0.0, 1.0)
+    if orientation not in CUBIC_ORIENTATIONS:
+        raise InputError(f"orientation = {orientation!r} is not one of "
+                         f"{', '.join([*CUBIC_ORIENTATIONS, '0001'])}")
+    return tuple(float(x) for x in CUBIC_ORIENTATIONS[orientation][2])
 ORIENTATIONS = {"fcc": tuple(CUBIC_ORIENTATIONS), "bcc": tuple(CUBIC_ORIENTATIONS),
                 "hcp": ("0001",)}
 

@@ -35,7 +35,7 @@ def cmd_calibrate(args) -> int:
     curves = [c for path in args.curves for c in read_curves(path).values()]
     cal = calibrate(curves, nu=args.nu, tip=args.tip, tip_material=args.tip_material,
                     thickness=args.film_thickness, substrate=args.substrate, law=args.law,
-                    layer=args.layer)
+                    layer=args.layer, contact_zero=args.contact_zero)
     check = cal.cross_check(args.tolerance, exclude=args.exclude)
     if args.json:
         print(dumps({
@@ -60,7 +60,7 @@ def cmd_calibrate(args) -> int:
 
 def add_commands(sub) -> None:
     from filmscale.continuum.calibration.result import EXCLUDES, NOISE_FACTOR
-    from filmscale.continuum.calibration.route import TIP_MATERIALS
+    from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
     from filmscale.continuum.contact.laws import LAW_NAMES
     p = sub.add_parser(
         "calibrate", help="E, sigma_y (and n) of a layer from curve files",
@@ -81,6 +81,9 @@ def add_commands(sub) -> None:
                         "film's)")
     p.add_argument("--law", choices=LAW_NAMES, default="komvopoulos-ye-continuous",
                    help="sphere contact law (default komvopoulos-ye-continuous)")
+    p.add_argument("--contact-zero", choices=CONTACT_ZEROS,
+                   help="sphere tips: fit the depth zero with E, or hold it fixed at the "
+                        "curves' h = 0 (default: fit for a rigid tip, fixed for diamond)")
     p.add_argument("--nu", type=float, default=0.3,
                    help="the layer's Poisson ratio, assumed (default 0.3)")
     p.add_argument("--layer", default="layer", help="the layer's name in the output")

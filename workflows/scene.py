@@ -19,7 +19,7 @@ import numpy as np
 from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
                                  StackProfile)
 from filmscale.continuum.calibration.result import EXCLUDES
-from filmscale.continuum.calibration.route import TIP_MATERIALS
+from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
 from filmscale.continuum.contact.impact_map import axis
 from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
@@ -318,6 +318,9 @@ class CalibrationSource:
     substrate: ElasticPlastic | None = None
     exclude: str = ""            #: range the cross-scale check leaves out ("pop-in")
     seeds: int = 1               #: MD ensemble members (one run unit each)
+    #: "fit" or "fixed" (`calibrate`'s contact_zero); None: `calibrate`'s default (fit for a
+    #: rigid tip, fixed for diamond). Particle sources default to "fixed".
+    contact_zero: str | None = None
 
     @property
     def label(self) -> str:
@@ -422,7 +425,7 @@ def filled_data(data: dict, materials: dict[int, ElasticPlastic],
 
 
 _SOURCE_KEYS = {"np", "tip", "tolerance", "exclude", "tip_material", "film_thickness",
-                "substrate", "seeds"}
+                "substrate", "seeds", "contact_zero"}
 
 
 def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
@@ -476,8 +479,13 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
     if seeds > 1 and kind != "md":
         raise InputError(f"{where}.seeds: ensembles are of MD runs (thermal noise and the "
                          f"pop-in load vary with the seed); a {kind} source takes none")
+    # a particle model's surface is where its contact law places it: a fitted zero took the
+    # particle test's E from 70 to 95 GPa (the first particle layer's contact is not Hertzian)
+    zero = cal.get("contact_zero", "fixed" if kind == "particles" else None)
+    if zero is not None:
+        check_choice(f"{where}.contact_zero", zero, CONTACT_ZEROS)
     return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol,
-                             tip_material, thickness, substrate, exclude, seeds)
+                             tip_material, thickness, substrate, exclude, seeds, zero)
 
 
 def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None

@@ -61,11 +61,14 @@ def _progress_bar(total: int):
 
 def run_md(spec, path: Path, ranks: int):
     """The MD indentation, and the potential's own elastic constants of the film and of the
-    substrate under it (0 K, Voigt-Reuss-Hill): the substrate for the film's calibration,
-    the film's for the check of the calibrated E against the potential."""
+    substrate under it (0 K, Voigt-Reuss-Hill E and nu, and the indentation modulus M of
+    the slab's surface orientation): the substrate for the film's calibration, the film's
+    for the check of the calibrated E against the potential."""
+    from filmscale.continuum.elasticity import indentation_modulus
     from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.record import run_provenance
+    from filmscale.md.structures import surface_normal
     from filmscale.md.run import run_indentation
     bar, progress = _progress_bar(spec.protocol.schedule().s_end)
     try:
@@ -76,14 +79,16 @@ def run_md(spec, path: Path, ranks: int):
     layers = {"top": (spec.slab.films or (spec.slab.substrate,))[0]}
     if spec.slab.films:
         layers["substrate"] = spec.slab.substrate
-    elastic = {key: elastic_constants(spec.potential, layer.crystal,
-                                      run_dir=path / f"elastic-{key}").average
-               for key, layer in layers.items()}
-    record["potential_elastic"] = {key: {"element": layers[key].crystal.element,
-                                         "E": avg.E, "nu": avg.nu}
-                                   for key, avg in elastic.items()}
+    constants = {key: elastic_constants(spec.potential, layer.crystal,
+                                        run_dir=path / f"elastic-{key}")
+                 for key, layer in layers.items()}
+    normal = surface_normal(spec.slab.orientation)
+    record["potential_elastic"] = {
+        key: {"element": layers[key].crystal.element, "E": c.average.E, "nu": c.average.nu,
+              "M": indentation_modulus(c.C, normal), "orientation": spec.slab.orientation}
+        for key, c in constants.items()}
     if spec.slab.films:
-        sub = elastic["substrate"]
+        sub = constants["substrate"].average
         record["film"] = {"thickness": spec.slab.films[0].thickness,
                           "substrate": {"name": spec.slab.substrate.crystal.element,
                                         "E": sub.E, "nu": sub.nu}}
@@ -189,11 +194,12 @@ def calibration_unit(src: CalibrationSource, run_paths: list[Path], curves: list
     path = unit_dir(store, "calibration", {
         "source": origin, "nu": nu, "law": law, "layer": src.name, "tip": src.tip,
         "tip_material": src.tip_material, "film_thickness": thickness,
-        "substrate": None if substrate is None else asdict(substrate)})
+        "substrate": None if substrate is None else asdict(substrate),
+        "contact_zero": src.contact_zero})
     how = calibrate_ensemble if len(run_paths) > 1 else calibrate
     cal, reused = _stored_calibration(path, lambda: how(
         curves, nu=nu, tip_material=src.tip_material, thickness=thickness, substrate=substrate,
-        law=law, layer=src.name))
+        law=law, layer=src.name, contact_zero=src.contact_zero))
     return cal, path, reused
 
 

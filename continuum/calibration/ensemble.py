@@ -121,4 +121,5 @@ def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
         sources=tuple(str(c.meta.get("source", f"seed {i}")) for i, c in enumerate(curves)),
         warnings=tuple(dict.fromkeys(w for m in members for w in m.warnings)),
         fitted_curves=tuple(f for m in members for f in m.fitted_curves),
-        curve_noise=noise, pop_in=None if stats is None else stats.to_dict())
+        curve_noise=noise, pop_in=None if stats is None else stats.to_dict(),
+        contact_zero=float(np.mean([m.contact_zero for m in members])))

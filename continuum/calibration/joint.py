@@ -73,15 +73,17 @@ class CalibrationPart:
 def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
                 indenter: ElasticPlastic | None = None) -> CalibrationPart:
     """A sphere source: its loading points after a pop-in with E* fixed by the Hertz fit
-    before it, else all its loading points with E* free."""
+    before it, else all its loading points with E* free; approaches from the source's own
+    contact zero."""
     law = contact_law(law) if isinstance(law, str) else law
     nu = cal.nu
     compliance = 0.0 if indenter is None else indenter.compliance
     loading, fitted, free = [], [], True
     for c in curves:
-        h, P, pop = loading_points(c, with_pop_in=True)
+        recorded, P, pop = loading_points(c, with_pop_in=True)
+        h = np.clip(recorded - cal.contact_zero, 0.0, None)
         r = sphere_radius(c, None)
-        loading.append((h, P, r))
+        loading.append((recorded, h, P, r))
         fitted.append((h if pop is None else h[pop + 1:], P if pop is None else P[pop + 1:],
                        r, float(P.max())))
         free = free and pop is None
@@ -115,8 +117,8 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
                  if cal.sigma_y.identified and dF @ dF > 0 else ())
 
     def forward(E, n, sigma_at):
-        return tuple((h, P, law.contact(h, r, e_star(E), sigma_at(h), nu).force)
-                     for h, P, r in loading)
+        return tuple((recorded, P, law.contact(h, r, e_star(E), sigma_at(h), nu).force)
+                     for recorded, h, P, r in loading)
     return CalibrationPart(label, cal, strengths, residuals,
                            (math.log(E_own),) if free else (), modulus if free else None,
                            forward)

@@ -81,6 +81,9 @@ class Calibration:
     curve_noise: float = math.nan
     #: an ensemble's pop-in statistics (`ensemble.PopInStatistics` as a dict), or None
     pop_in: dict | None = None
+    #: the contact zero h0 (m) of a sphere calibration: the law was evaluated at the approach
+    #: h - h0 (0 when the zero was held at the curves' h = 0; an ensemble's: its members' mean)
+    contact_zero: float = 0.0
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:

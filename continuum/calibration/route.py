@@ -22,6 +22,16 @@ from .sphere import calibrate_sphere
 
 #: what a tip is made of: rigid (the tips of MD and particle runs) or diamond (measured)
 TIP_MATERIALS = ("rigid", "diamond")
+#: how a sphere calibration places the contact zero: fitted with E* or fixed at the
+#: curve's h = 0
+CONTACT_ZEROS = ("fit", "fixed")
+
+
+def default_contact_zero(tip_material: str) -> str:
+    """A rigid tip means a simulated surface (MD, particle model), whose zero is fitted; a
+    diamond tip means a measured curve, whose zero is the instrument's surface detection."""
+    return "fit" if check_choice("tip material", tip_material, TIP_MATERIALS) == "rigid" \
+        else "fixed"
 
 
 def tip_counterpart(tip_material: str) -> tuple[ElasticPlastic | None, float, float]:
@@ -47,7 +57,7 @@ def sharp_tip_of(curves) -> object | None:
 def calibrate(curves, *, nu: float, tip=None, tip_material: str = "diamond",
               thickness: float | None = None, substrate: ElasticPlastic | None = None,
               law: str | ContactLaw = "komvopoulos-ye-continuous",
-              layer: str = "layer") -> Calibration:
+              layer: str = "layer", contact_zero: str | None = None) -> Calibration:
     """E, sigma_y (and n for sharp tips) of a layer from its curves.
 
     Spherical tips go through the contact law (`calibrate_sphere`), on a half-space or, with
@@ -70,6 +80,12 @@ def calibrate(curves, *, nu: float, tip=None, tip_material: str = "diamond",
         The sphere contact law.
     layer : str
         The layer's name in the result.
+    contact_zero : {"fit", "fixed"}, optional
+        Sphere tips: fit the contact zero with E* (`calibrate_sphere`'s ``fit_zero``) or hold
+        it at the curves' h = 0. Default `default_contact_zero`: fit for a rigid tip (an MD
+        or particle surface: on MD Cu the fitted zero makes E independent of the tip's wall
+        stiffness, docs/md-indentation.md), fixed for diamond. Sharp tips refuse "fit":
+        Dao's analysis has no zero to fit.
     """
     curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
     if not curves:
@@ -81,10 +97,16 @@ def calibrate(curves, *, nu: float, tip=None, tip_material: str = "diamond",
     if missing:
         raise InputError(f"curve(s) {', '.join(missing)} name no indenter: give the tip")
     indenter, E_i, nu_i = tip_counterpart(tip_material)
+    zero = check_choice("contact zero", default_contact_zero(tip_material)
+                        if contact_zero is None else contact_zero, CONTACT_ZEROS)
     sharp = sharp_tip_of(curves)
     if sharp is None:
         return calibrate_sphere(curves, nu=nu, law=law, layer=layer, indenter=indenter,
-                                thickness=thickness, substrate=substrate)
+                                thickness=thickness, substrate=substrate,
+                                fit_zero=zero == "fit")
+    if contact_zero == "fit":
+        raise InputError(f"tip {sharp}: contact zero = 'fit' is for sphere tips; Dao's "
+                         "reverse analysis of sharp tips has no zero to fit")
     if thickness is not None or substrate is not None:
         raise InputError(f"tip {sharp}: a film on a substrate is calibrated with a sphere; "
                          "Dao's reverse analysis of sharp tips holds for a half-space (leave "

@@ -40,6 +40,14 @@ from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
 from .target import SphereTarget
 
 
+#: E* of a curve with a pop-in comes from the Hertz points below this fraction of the pop-in
+#: load. Measured on MD Cu(001) (docs/md-indentation.md): the apparent modulus
+#: P / (4/3 sqrt(R) h^1.5) is flat to about 0.6 of the pop-in load and then falls 10-20 %
+#: before the burst (the crystal softens under the near-theoretical shear stress, which the
+#: linear Hertz law lacks); a fit up to the burst put E 9-18 % lower than one to half of it.
+HERTZ_FRACTION = 0.5
+
+
 def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
     if R is not None:
         return check_real("R", R, low=0.0, low_open=True, high=1.0, unit="m")
@@ -54,7 +62,9 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
                      law: str | ContactLaw = "komvopoulos-ye-continuous",
                      indenter: ElasticPlastic | None = None, n: float = 0.0,
                      split_at_pop_in: bool = True, thickness: float | None = None,
-                     substrate: ElasticPlastic | None = None) -> Calibration:
+                     substrate: ElasticPlastic | None = None,
+                     fit_zero: bool = False,
+                     hertz_fraction: float = HERTZ_FRACTION) -> Calibration:
     """E and sigma_y of a layer from spherical loading curves: a half-space of the layer, or
     the layer as a film of ``thickness`` on ``substrate`` (`SphereTarget`).
 
@@ -75,13 +85,24 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         The hardening exponent reported (not identifiable from an elastic-perfectly plastic
         sphere law); default 0.
     split_at_pop_in : bool
-        True (default): curves with a pop-in give E* from Hertz before it and sigma_y from
-        the loading after it. False: one joint fit of E* and sigma_y over the whole loading,
+        True (default): curves with a pop-in give E* from Hertz below `HERTZ_FRACTION` of
+        the pop-in load and sigma_y from the loading after the pop-in. False: one joint fit of E* and sigma_y over the whole loading,
         which trades E* against the elastic overshoot before a pop-in.
     thickness, substrate : float (m) and ElasticPlastic, optional
         The layer is a film of this thickness on this substrate (an MD film on its MD
         substrate, say): the forward model is the Gao-weighted layered contact law, and only
         the film's E and sigma_y are fitted. A substrate without sigma_y takes the film's.
+    hertz_fraction : float
+        With a pop-in, E* comes from the loading below this fraction (0.1-1) of the pop-in
+        load (`HERTZ_FRACTION`: why 0.5).
+    fit_zero : bool
+        Also fit the contact zero h0 (m), one for all curves: the law is evaluated at the
+        approach h - h0. A simulated surface has no sharp zero (surface relaxation, thermal
+        motion, the few tenths of an angstrom over which an MD tip's repulsive wall acts),
+        and at depths of a few angstroms a zero off by 0.3 A moves E by 10 % or more. h0 is
+        fitted with E* on the elastic loading (before the pop-in, or all of it in a joint
+        fit); its covariance with E* enters E's standard deviation. Measured curves take
+        their zero from the instrument's surface detection: leave False.
     """
     curves = [curves] if isinstance(curves, LoadDisplacementCurve) else list(curves)
     if not curves:
@@ -103,9 +124,46 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         float(n), math.nan, "", False,
         f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"), sources=sources,
         model=law.name if not target.layered else f"{law.name} on a {target.describe()}")
+    zero = _ZeroFit(fit_zero, max(h.max() for h, *_ in data))
+    hertz_fraction = check_real("hertz_fraction", hertz_fraction, low=0.1, high=1.0)
     if split_at_pop_in and any(pop is not None for *_, pop in data):
-        return _sphere_past_pop_in(data, law, target, common)
-    return _sphere_joint(data, law, target, common)
+        return _sphere_past_pop_in(data, law, target, common, zero, hertz_fraction)
+    return _sphere_joint(data, law, target, common, zero)
+
+
+class _ZeroFit:
+    """The contact zero as an optional last unknown of a least-squares fit, scaled by the
+    deepest approach (so that every unknown is of order one) and kept within half of it."""
+
+    def __init__(self, fitted: bool, span: float):
+        self.fitted, self.span = bool(fitted), float(span)
+
+    def start(self, theta) -> list:
+        return list(theta) + [0.0] * self.fitted
+
+    def bounds(self, low, high):
+        low, high = np.atleast_1d(low).astype(float), np.atleast_1d(high).astype(float)
+        return (np.append(low, [-0.5] * self.fitted), np.append(high, [0.5] * self.fitted))
+
+    def split(self, theta):
+        """(the physical unknowns, h0 in m)."""
+        theta = np.asarray(theta, dtype=float)
+        return (theta[:-1], float(theta[-1]) * self.span) if self.fitted else (theta, 0.0)
+
+    @staticmethod
+    def shifted(data, h0: float):
+        """The data with approaches measured from the zero h0 (none below 0)."""
+        return [(np.clip(h - h0, 0.0, None), *rest) for h, *rest in data] if h0 else data
+
+    def covariance(self, fit, dof: int) -> np.ndarray:
+        """s^2 (J^T J)^-1 of the physical unknowns (h0 marginalised: its scatter enters)."""
+        cov = float(fit.fun @ fit.fun) / max(dof, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
+        k = cov.shape[0] - self.fitted
+        return cov[:k, :k]
+
+    def note(self, h0: float) -> list[str]:
+        return [f"contact zero fitted: h0 = {h0:.3g} m (the law is evaluated at h - h0)"] \
+            if self.fitted else []
 
 
 def _residuals(data, law, target, E_star, sigma_y, yielding_substrate=True):
@@ -113,8 +171,10 @@ def _residuals(data, law, target, E_star, sigma_y, yielding_substrate=True):
                             - P) / Pm for h, P, r, Pm, *_ in data])
 
 
-def _fitted(data, law, target, E_star, sigma_y):
-    return tuple((h, P, target.forces(law, h, r, E_star, sigma_y)[0])
+def _fitted(data, law, target, E_star, sigma_y, h0=0.0, yielding_substrate=True):
+    """(h, P, the law's force) of each curve, the law evaluated from the contact zero h0."""
+    return tuple((h, P, target.forces(law, np.clip(h - h0, 0.0, None), r, E_star, sigma_y,
+                                      yielding_substrate)[0])
                  for h, P, r, Pm, *_ in data)
 
 
@@ -124,30 +184,34 @@ def _yields(data, law, target, E_star, sigma_y) -> bool:
                for h, _, r, *_ in data)
 
 
-def _joint_fits(data, law, target, lnE, ln_sy, elastic_sy, joint_start=None):
+def _joint_fits(data, law, target, zero, lnE, ln_sy, elastic_sy, joint_start=None):
     """Least-squares fits of ln E* alone (from ``lnE``; Hertz branch: nothing yields) and of
-    ln E* with ln sigma_y (from ``joint_start``, else the elastic fit's E* and ``ln_sy``).
-    A film's fit is kept within a factor 1000 of its start either way: beyond, the substrate
-    alone carries the curve and the film's parameters run off."""
-    bounds = (-np.inf, np.inf)
+    ln E* with ln sigma_y (from ``joint_start``, else the elastic fit's E* and ``ln_sy``),
+    each with the contact zero last when ``zero`` fits it. A film's fit is kept within a
+    factor 1000 of its start either way: beyond, the substrate alone carries the curve and
+    the film's parameters run off."""
+    low, high = np.full(2, -np.inf), np.full(2, np.inf)
     if target.layered:
-        start = np.array([lnE, ln_sy] if joint_start is None else joint_start)
-        bounds = (start - math.log(1e3), start + math.log(1e3))
-    def elastic_residuals(lnE):
-        return _residuals(data, law, target, math.exp(lnE[0]), elastic_sy,
+        start = np.array([lnE, ln_sy] if joint_start is None else joint_start[:2])
+        low, high = start - math.log(1e3), start + math.log(1e3)
+
+    def elastic_residuals(theta):
+        (ln_e,), h0 = zero.split(theta)
+        return _residuals(zero.shifted(data, h0), law, target, math.exp(ln_e), elastic_sy,
                           yielding_substrate=False)
 
     def residuals(theta):
-        return _residuals(data, law, target, *np.exp(theta))
-    efit = least_squares(elastic_residuals, [lnE], diff_step=1e-6, xtol=1e-12, ftol=1e-12,
-                         bounds=(bounds[0] if np.isscalar(bounds[0]) else bounds[0][:1],
-                                 bounds[1] if np.isscalar(bounds[1]) else bounds[1][:1]))
-    fit = least_squares(residuals, [efit.x[0], ln_sy] if joint_start is None else joint_start,
-                        diff_step=1e-6, xtol=1e-12, ftol=1e-12, bounds=bounds)
+        physical, h0 = zero.split(theta)
+        return _residuals(zero.shifted(data, h0), law, target, *np.exp(physical))
+    efit = least_squares(elastic_residuals, zero.start([lnE]), diff_step=1e-6, xtol=1e-12,
+                         ftol=1e-12, bounds=zero.bounds(low[:1], high[:1]))
+    start = ([efit.x[0], ln_sy, *efit.x[1:]] if joint_start is None else joint_start)
+    fit = least_squares(residuals, start, diff_step=1e-6, xtol=1e-12, ftol=1e-12,
+                        bounds=zero.bounds(low, high))
     return efit, fit
 
 
-def _sphere_joint(data, law, target, common) -> Calibration:
+def _sphere_joint(data, law, target, common, zero) -> Calibration:
     """Smooth curves: ln E* and ln sigma_y together, or Hertz alone when that suffices."""
     # starting point: Hertz on the first third of each curve's load, then yield at the
     # largest mean pressure divided by the law's hardness factor
@@ -162,23 +226,24 @@ def _sphere_joint(data, law, target, common) -> Calibration:
     if target.layered:
         # from the half-space answer (the apparent modulus and strength): started from the
         # Hertz guess, a film fit can slide to a film of no stiffness on a strong substrate
-        efit0, fit0 = _joint_fits(data, law, SphereTarget(target.nu, target.indenter), lnE,
-                                  ln_sy, elastic_sy)
+        efit0, fit0 = _joint_fits(data, law, SphereTarget(target.nu, target.indenter), zero,
+                                  lnE, ln_sy, elastic_sy)
         lnE, joint_start = efit0.x[0], fit0.x
-    efit, fit = _joint_fits(data, law, target, lnE, ln_sy, elastic_sy, joint_start)
+    efit, fit = _joint_fits(data, law, target, zero, lnE, ln_sy, elastic_sy, joint_start)
     ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
-    E_star, sigma_y = np.exp(fit.x)
-    reaches_yield = _yields(data, law, target, E_star, sigma_y)
+    physical, h0 = zero.split(fit.x)
+    E_star, sigma_y = np.exp(physical)
+    dof = N - 2 - zero.fitted
+    reaches_yield = _yields(zero.shifted(data, h0), law, target, E_star, sigma_y)
     # sigma_y counts as seen when the elastic-plastic fit beats Hertz alone by more than
-    # noise: F test of the extra parameter at 95 % (F(1, N - 2) above its 0.95 quantile)
-    F = (ssr_el - ssr) / max(ssr / max(N - 2, 1), 1e-300)
-    yielded = reaches_yield and F > f_dist.ppf(0.95, 1, max(N - 2, 1))
+    # noise: F test of the extra parameter at 95 % (F(1, dof) above its 0.95 quantile)
+    F = (ssr_el - ssr) / max(ssr / max(dof, 1), 1e-300)
+    yielded = reaches_yield and F > f_dist.ppf(0.95, 1, max(dof, 1))
     warnings = []
     if yielded:
-        cov = ssr / max(N - 2, 1) * np.linalg.pinv(fit.jac.T @ fit.jac)
-        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(zero.covariance(fit, dof)), 0.0, None))
         delta_y = max(_yield_approach(law, r, *target.properties(h.max(), r, E_star, sigma_y))
-                      for h, _, r, *_ in data)
+                      for h, _, r, *_ in zero.shifted(data, h0))
         if max(h.max() for h, *_ in data) < 3 * delta_y:
             warnings.append(f"the deepest point is under 3 x the first-yield approach "
                             f"({delta_y:.3g} m): sigma_y rests on the early elastic-plastic "
@@ -188,51 +253,59 @@ def _sphere_joint(data, law, target, common) -> Calibration:
         # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
         # (first yield exactly at the deepest point)
         ssr = ssr_el
-        E_star = float(np.exp(efit.x[0]))
-        std_lnE = math.sqrt(ssr / max(N - 1, 1) / float((efit.jac.T @ efit.jac)[0, 0]))
-        sigma_param = _lower_bound(data, law, target, E_star)
+        (ln_e,), h0 = zero.split(efit.x)
+        E_star = math.exp(ln_e)
+        std_lnE = math.sqrt(zero.covariance(efit, N - 1 - zero.fitted)[0, 0])
+        sigma_param = _lower_bound(zero.shifted(data, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
-    fitted = _fitted(data, law, target, E_star, sigma_y) if yielded else tuple(
-        (h, P, target.forces(law, h, r, E_star, elastic_sy, False)[0])
-        for h, P, r, *_ in data)
+    warnings += zero.note(h0)
+    fitted = _fitted(data, law, target, E_star, sigma_y, h0) if yielded else _fitted(
+        data, law, target, E_star, elastic_sy, h0, yielding_substrate=False)
     return Calibration(
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",
         rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings), fitted_curves=fitted,
-        **common)
+        contact_zero=h0, **common)
 
 
-def _sphere_past_pop_in(data, law, target, common) -> Calibration:
-    """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading before
-    the first pop-in, then sigma_y with E* fixed on the loading after it. The contact law
+def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibration:
+    """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading below
+    ``fraction`` of the first pop-in load, then sigma_y with E* fixed on the loading
+    after the pop-in. The contact law
     has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
     sigma_y adds the propagated std of E* to its own (conditional) one."""
     # stage 1: the elastic branch before each pop-in, each curve weighted by 1/P_max
-    pre = [(h[:pop + 1], P[:pop + 1], r, Pm) for h, P, r, Pm, pop in data if pop is not None]
+    below = [(h[:pop + 1], P[:pop + 1], P[:pop + 1] <= fraction * P[pop], r, Pm)
+             for h, P, r, Pm, pop in data if pop is not None]
+    pre = [(h[keep], P[keep], r, Pm) for h, P, keep, r, Pm in below]
     n_pre = sum(h.size for h, *_ in pre)
-    if n_pre < 3:
-        raise InputError(f"only {n_pre} loading points before the pop-in: a Hertz fit of "
-                         "E needs at least 3")
+    if n_pre < 3 + zero.fitted:
+        raise InputError(f"only {n_pre} loading points below {fraction:g} of the "
+                         f"pop-in load: a Hertz fit of "
+                         f"E{' and the contact zero' * zero.fitted} needs at least "
+                         f"{3 + zero.fitted}")
     # Hertz with the reduced modulus felt at each approach; a half-space is linear in E*,
     # P = E* x with x = 4/3 sqrt(R) h^1.5, which gives the start
     x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
     y = np.concatenate([P / Pm for h, P, r, Pm in pre])
 
-    def elastic_residuals(lnE):
-        return np.concatenate([(target.hertz(h, r, math.exp(lnE[0])) - P) / Pm
-                               for h, P, r, Pm in pre])
-    efit = least_squares(elastic_residuals, [math.log(float(x @ y / (x @ x)))],
-                         diff_step=1e-6, xtol=1e-14, ftol=1e-14)
-    E_star = float(math.exp(efit.x[0]))
-    std_lnE = math.sqrt(float(efit.fun @ efit.fun) / max(n_pre - 1, 1)
-                        / float((efit.jac.T @ efit.jac)[0, 0]))
-    # stage 2: the rest of each curve (all of a curve without a pop-in)
+    def elastic_residuals(theta):
+        (ln_e,), h0 = zero.split(theta)
+        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e))
+                                - P) / Pm for h, P, r, Pm in pre])
+    efit = least_squares(elastic_residuals, zero.start([math.log(float(x @ y / (x @ x)))]),
+                         diff_step=1e-6, xtol=1e-14, ftol=1e-14,
+                         bounds=zero.bounds(-np.inf, np.inf))
+    (ln_e,), h0 = zero.split(efit.x)
+    E_star = math.exp(ln_e)
+    std_lnE = math.sqrt(zero.covariance(efit, n_pre - 1 - zero.fitted)[0, 0])
+    # stage 2: the rest of each curve (all of a curve without a pop-in), from the zero
     post = [(h[pop + 1:] if pop is not None else h, P[pop + 1:] if pop is not None else P,
-             r, Pm) for h, P, r, Pm, pop in data]
+             r, Pm) for h, P, r, Pm, pop in zero.shifted(data, h0)]
     post = [d for d in post if d[0].size]
     N2 = sum(h.size for h, *_ in post)
     warnings = [f"pop-in at {Pm_pop:.3g} N, {h_pop:.3g} m: E from the {n_pre} Hertz points "
-                "before it, sigma_y from the loading after it"
+                f"below {fraction:g} of its load, sigma_y from the loading after it"
                 for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
                                       if pop is not None)]
     sigma_param = None
@@ -254,16 +327,17 @@ def _sphere_past_pop_in(data, law, target, common) -> Calibration:
             sigma_param = _yield_parameter(sigma_y, math.sqrt(var_cond
                                                               + (sens * std_lnE)**2))
     if sigma_param is None:
-        sigma_param = _lower_bound(post or pre, law, target, E_star)
+        sigma_param = _lower_bound(post or zero.shifted(pre, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
-    fitted = _fitted(data, law, target, E_star, sigma_param.value)
+    warnings += zero.note(h0)
+    fitted = _fitted(data, law, target, E_star, sigma_param.value, h0)
     resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
     return Calibration(
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
                     "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
         rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
-        warnings=tuple(warnings), fitted_curves=fitted, **common)
+        warnings=tuple(warnings), fitted_curves=fitted, contact_zero=h0, **common)
 
 
 def _yield_parameter(sigma_y, std_lnS) -> Parameter:

@@ -2,6 +2,7 @@
 elastic constants against the published values, the ci indentation against Hertz, and a run
 killed mid-loading that resumes into the same curve within thermal noise."""
 
+import math
 import os
 import signal
 import subprocess
@@ -84,7 +85,11 @@ def ci_run(tmp_path_factory):
 def test_ci_indentation_matches_hertz_with_the_potentials_modulus(ci_run, elastic_cu):
     a = analyze_indentation(ci_run, elastic_cu)
     assert abs(a.hertz_ratio - 1.0) < HERTZ_TOLERANCE, a.summary()
-    assert a.hertz_rms < 0.05
+    # the ci run (200 m/s) has no pop-in, so Hertz is fitted to the whole loading: its rms
+    # misfit stays within twice the load noise (the cross-scale check's rule; measured 1.6 x
+    # at K = 100 eV/A^3, the end of the loading bending over as the crystal begins to yield)
+    assert math.isnan(a.popin_load), a.summary()
+    assert a.hertz_rms * a.P_max < 2 * a.load_noise, a.summary()
     assert 0.0 < a.residual_depth < a.h_max
     # every input that ran can be replayed by hand: the data file is beside it
     assert (ci_run.run_dir / "slab.data").exists()

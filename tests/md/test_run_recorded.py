@@ -85,8 +85,8 @@ def test_analysis_of_recorded_run_against_published_constants(tmp_path, monkeypa
     run = md_run.run_indentation(preset("ci"), tmp_path / "run")
 
     class Published:       # Mishin et al., PRB 63, 224106 (2001), EAM Cu1: C11, C12, C44
-        E_star = voigt_reuss_hill(cubic_stiffness(169.9e9, 122.6e9, 76.2e9)) \
-            .plane_strain_modulus()
+        C = cubic_stiffness(169.9e9, 122.6e9, 76.2e9)
+        E_star = voigt_reuss_hill(C).plane_strain_modulus()
 
     a = analyze_indentation(run, Published)
     assert abs(a.hertz_ratio - 1.0) < HERTZ_TOLERANCE

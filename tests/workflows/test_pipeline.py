@@ -488,6 +488,7 @@ def test_an_md_ensemble_runs_one_unit_per_seed_and_reports_its_scatter(tmp_path)
     ('curves = ["a.csv"]\ntip_material = "steel"', r"tip_material = 'steel' is not one of"),
     ('md = "ci"\nseeds = 0', r"seeds = 0 must be an integer in \[1, 64\]"),
     ('md = "ci"\nexclude = "everything"', r"exclude = 'everything' is not one of"),
+    ('md = "ci"\ncontact_zero = "auto"', r"contact_zero = 'auto' is not one of: fit, fixed"),
 ])
 def test_new_calibration_keys_are_checked_before_any_run(keys, message):
     with pytest.raises(InputError, match=message):

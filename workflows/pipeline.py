@@ -14,6 +14,8 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import numpy as np
+
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.workflows.plan import Plan, plan_scene
 from filmscale.workflows.result import write_scene_result
@@ -68,15 +70,17 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     scene = pipeline.completed(materials, h_star)
     say("plan:\n" + plan.text())
     spread = parameter_spread(calibrations)
+    correlation = spread_correlation(calibrations, spread)
     impact_path = unit_dir(store, "impact", {"scene": impact_inputs(pipeline, materials,
                                                                     h_star),
-                                            "plan": plan.decisions, "spread": spread})
+                                            "plan": plan.decisions, "spread": spread,
+                                            "correlation": correlation.tolist()})
     record = done_record(impact_path)
     if record is None:
         impact_path.mkdir(parents=True, exist_ok=True)
         perturbed = [pipeline.completed({**materials, k: replace(materials[k], **{name: value})},
                                         h_star) for k, name, value in spread]
-        impact_evaluation(scene, plan, impact_path, perturbed)
+        impact_evaluation(scene, plan, impact_path, perturbed, correlation)
         record = finish_unit(impact_path, {"decisions": plan.decisions})
         units[impact_path.name] = "ran"
     else:
@@ -92,6 +96,17 @@ def parameter_spread(calibrations: dict[int, Calibration]) -> list[tuple[int, st
     return [(k, name, p.value + p.std) for k, cal in calibrations.items()
             for name, p in (("E", cal.E), ("sigma_y", cal.sigma_y))
             if p.identified and math.isfinite(p.std) and p.std > 0]
+
+
+def spread_correlation(calibrations: dict[int, Calibration], spread) -> np.ndarray:
+    """The correlation matrix of the shifted parameters of `parameter_spread`: each layer's
+    E and sigma_y as its calibration correlates them, different layers independent."""
+    rho = np.eye(len(spread))
+    for i, (k, name, _) in enumerate(spread):
+        for j, (k2, name2, _) in enumerate(spread):
+            if i != j and k == k2 and {name, name2} == {"E", "sigma_y"}:
+                rho[i, j] = calibrations[k].correlation
+    return rho
 
 
 def impact_inputs(pipeline: PipelineScene, materials, h_star=None) -> dict:

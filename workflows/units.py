@@ -238,21 +238,22 @@ UNCERTAIN = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max"
              "contact_time", "residual_depth", "restitution")
 
 
-def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=()):
+def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=(), correlation=None):
     """The impact results of the plan, and with ``perturbed`` (scenes with one calibrated
     parameter raised by its standard deviation each) their standard deviation, linearised:
-    std^2 = sum over the parameters of (result(p + std_p) - result(p))^2, the parameters
-    taken as independent. Written as ``point_std/*`` and ``map_std/*`` beside the results."""
+    with d_i = result(p + std_i) - result(p) and rho the parameters' correlation matrix
+    (identity when None), std^2 = sum_ij rho_ij d_i d_j. Written as ``point_std/*`` and
+    ``map_std/*`` beside the results."""
     arrays = _impact_arrays(scene, plan, bool(plan.decisions.get("history")))
     if perturbed:
+        rho = np.eye(len(perturbed)) if correlation is None else np.asarray(correlation)
         keys = [k for k in arrays if k.split("/")[0] in ("point", "map")
                 and k.split("/")[1] in UNCERTAIN]
-        var = {k: np.zeros_like(np.asarray(arrays[k], dtype=float)) for k in keys}
-        for shifted in perturbed:
-            other = _impact_arrays(shifted, plan, False)
-            for k in keys:
-                var[k] += (np.asarray(other[k], dtype=float) - arrays[k])**2
-        arrays.update({k.replace("/", "_std/", 1): np.sqrt(v) for k, v in var.items()})
+        shifts = [_impact_arrays(shifted, plan, False) for shifted in perturbed]
+        for k in keys:
+            d = np.stack([np.asarray(other[k], dtype=float) - arrays[k] for other in shifts])
+            var = np.einsum("i...,ij,j...->...", d, rho, d)
+            arrays[k.replace("/", "_std/", 1)] = np.sqrt(np.clip(var, 0.0, None))
     with atomic_path(path / "impact.npz") as tmp:
         with open(tmp, "wb") as f:
             np.savez(f, **{k.replace("/", "__"): np.asarray(v) for k, v in arrays.items()})

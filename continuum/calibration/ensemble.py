@@ -122,4 +122,15 @@ def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
         warnings=tuple(dict.fromkeys(w for m in members for w in m.warnings)),
         fitted_curves=tuple(f for m in members for f in m.fitted_curves),
         curve_noise=noise, pop_in=None if stats is None else stats.to_dict(),
-        contact_zero=float(np.mean([m.contact_zero for m in members])))
+        contact_zero=float(np.mean([m.contact_zero for m in members])),
+        correlation=_member_correlation(members))
+
+
+def _member_correlation(members) -> float:
+    """The correlation of the members' E and sigma_y (the seed-to-seed scatter of both), 0
+    with fewer than three members or a constant one."""
+    E = np.array([m.E.value for m in members])
+    sy = np.array([m.sigma_y.value for m in members])
+    if E.size < 3 or np.ptp(E) == 0 or np.ptp(sy) == 0:
+        return 0.0
+    return float(np.corrcoef(E, sy)[0, 1])

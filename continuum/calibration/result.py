@@ -84,6 +84,9 @@ class Calibration:
     #: the contact zero h0 (m) of a sphere calibration: the law was evaluated at the approach
     #: h - h0 (0 when the zero was held at the curves' h = 0; an ensemble's: its members' mean)
     contact_zero: float = 0.0
+    #: correlation coefficient of the E and sigma_y estimates (0: uncorrelated or unknown;
+    #: sphere fits give it from their covariance, an ensemble from its members' scatter)
+    correlation: float = 0.0
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:

@@ -240,8 +240,11 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
     F = (ssr_el - ssr) / max(ssr / max(dof, 1), 1e-300)
     yielded = reaches_yield and F > f_dist.ppf(0.95, 1, max(dof, 1))
     warnings = []
+    correlation = 0.0
     if yielded:
-        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(zero.covariance(fit, dof)), 0.0, None))
+        cov = zero.covariance(fit, dof)
+        std_lnE, std_lnS = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        correlation = _correlation(cov[0, 1], std_lnE, std_lnS)
         delta_y = max(_yield_approach(law, r, *target.properties(h.max(), r, E_star, sigma_y))
                       for h, _, r, *_ in zero.shifted(data, h0))
         if max(h.max() for h, *_ in data) < 3 * delta_y:
@@ -265,7 +268,7 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",
         rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings), fitted_curves=fitted,
-        contact_zero=h0, **common)
+        contact_zero=h0, correlation=correlation, **common)
 
 
 def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibration:
@@ -308,7 +311,7 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
                 f"below {fraction:g} of its load, sigma_y from the loading after it"
                 for Pm_pop, h_pop in ((P[pop], h[pop]) for h, P, r, Pm, pop in data
                                       if pop is not None)]
-    sigma_param = None
+    sigma_param, correlation = None, 0.0
     if N2 >= 2:
         sy0 = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm in post) / law.hardness_factor
         def residuals(ln_sy, ln_E=math.log(E_star)):
@@ -324,8 +327,10 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
                    - residuals(fit.x, math.log(E_star) - eps)) / (2 * eps)
             var_cond = ssr2 / max(N2 - 1, 1) / float(J_S @ J_S)
             sens = -float(J_S @ J_E) / float(J_S @ J_S)     # d ln sigma_y / d ln E*
-            sigma_param = _yield_parameter(sigma_y, math.sqrt(var_cond
-                                                              + (sens * std_lnE)**2))
+            std_lnS = math.sqrt(var_cond + (sens * std_lnE)**2)
+            sigma_param = _yield_parameter(sigma_y, std_lnS)
+            # ln sigma_y = sens ln E* + (its own scatter): cov = sens var(ln E*)
+            correlation = _correlation(sens * std_lnE**2, std_lnE, std_lnS)
     if sigma_param is None:
         sigma_param = _lower_bound(post or zero.shifted(pre, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
@@ -337,7 +342,14 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
         uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
                     "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
         rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
-        warnings=tuple(warnings), fitted_curves=fitted, contact_zero=h0, **common)
+        warnings=tuple(warnings), fitted_curves=fitted, contact_zero=h0,
+        correlation=correlation if sigma_param.identified else 0.0, **common)
+
+
+def _correlation(cov: float, std_a: float, std_b: float) -> float:
+    """cov / (std_a std_b), 0 where a std is 0, clipped to [-1, 1] against round-off."""
+    product = float(std_a) * float(std_b)
+    return float(np.clip(cov / product, -1.0, 1.0)) if product > 0 else 0.0
 
 
 def _yield_parameter(sigma_y, std_lnS) -> Parameter:

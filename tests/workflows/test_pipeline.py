@@ -493,3 +493,35 @@ def test_an_md_ensemble_runs_one_unit_per_seed_and_reports_its_scatter(tmp_path)
 def test_new_calibration_keys_are_checked_before_any_run(keys, message):
     with pytest.raises(InputError, match=message):
         scene(film="[target.layers.calibrate]\n" + keys)
+
+
+def test_correlated_parameters_combine_their_shifts(tmp_path):
+    """The linearised variance of two correlated parameters, std^2 = d_E^2 + d_S^2 +
+    2 rho d_E d_S: `impact_evaluation` with both shifts and rho = -0.9 against its two
+    one-shift evaluations combined by hand (round-off only), and rho = 0 as the root sum of
+    squares. The impact yields (1 m/s), so that both E and sigma_y move the maxima."""
+    from dataclasses import replace
+
+    from filmscale.workflows.units import impact_evaluation
+    pipe = scene(V=1.0, t=20e-6, film='[target.layers.calibrate]\nmd = "ci"')
+    film = ElasticPlastic(200e9, 0.3, 8e9, name="film")
+    base, plan = pipe.completed({0: film}), plan_scene(pipe, {0: film})
+    shifted = [pipe.completed({0: replace(film, E=210e9)}),
+               pipe.completed({0: replace(film, sigma_y=8.4e9)})]
+
+    def point_std(name, perturbed, rho=None):
+        (tmp_path / name).mkdir()
+        impact_evaluation(base, plan, tmp_path / name, perturbed, rho)
+        with np.load(tmp_path / name / "impact.npz") as f:
+            return {k: float(f[f"point_std__{k}"]) for k in ("delta_max", "force_max")}
+    d_E, d_S = point_std("E", shifted[:1]), point_std("S", shifted[1:])
+    both = point_std("both", shifted, [[1.0, -0.9], [-0.9, 1.0]])
+    independent = point_std("independent", shifted)
+    for k in ("delta_max", "force_max"):
+        assert d_E[k] > 0 and d_S[k] > 0
+        # one-shift stds are |d|; both shifts move delta_max down (stiffer, stronger) and the
+        # force up, so d_E d_S > 0 and a negative rho narrows the band
+        assert both[k] == pytest.approx(np.sqrt(d_E[k]**2 + d_S[k]**2
+                                                - 1.8 * d_E[k] * d_S[k]), rel=1e-9)
+        assert independent[k] == pytest.approx(np.hypot(d_E[k], d_S[k]), rel=1e-9)
+        assert both[k] < independent[k]

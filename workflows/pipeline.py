@@ -54,7 +54,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
                                                      nu, law, pipeline.base, store)
             units[cal_path.name] = "reused" if reused else "ran"
             part_units.append(cal_path)
-            parts.append((src, cal, curves))
+            parts.append((src, cal, curves, src.film(pipeline.base,
+                                                     done_record(runs[0][0]) if runs else None)))
         if len(sources) > 1:
             cal, cal_path, reused = joint_unit(
                 sources[0].name, lambda: [calibration_part(*p, law) for p in parts],

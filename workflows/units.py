@@ -150,14 +150,15 @@ def _file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, law: str
+def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, film, law: str
                      ) -> CalibrationPart:
-    """A source's calibration as a joint calibration of its layer takes it (a film's
-    substrate is not modelled in the joint fit: the sources enter as half-spaces)."""
+    """A source's calibration as a joint calibration of its layer takes it; ``film`` is
+    its (thickness, substrate), (None, None) for a half-space (`CalibrationSource.film`):
+    a sphere source's film is forward-modelled on its own substrate in the joint fit too."""
     indenter, E_i, nu_i = tip_counterpart(src.tip_material)
     tip = sharp_tip_of(curves)
     if tip is None:
-        return sphere_part(src.label, cal, curves, law, indenter)
+        return sphere_part(src.label, cal, curves, law, indenter, *film)
     return sharp_part(src.label, cal, curves, tip, E_i=E_i, nu_i=nu_i)
 
 

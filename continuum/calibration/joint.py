@@ -8,7 +8,8 @@ the layer one parameter set:
   sigma_y, as `continuum.profiles.StackProfile` scales it) fitted to all sources together,
   so that the nanometre and micrometre strengths both reach the impact model's depth
   profile. Sphere sources enter with their loading points: the contact law evaluated with
-  sigma_y(delta) at each approach (how the impact model evaluates the profile), their E*
+  sigma_y(delta) at each approach (how the impact model evaluates the profile), a film
+  source with the Gao-weighted properties of the film on its own substrate, their E*
   free unless a pop-in fixed it (a constant-sigma_y fit of a curve whose strength falls with
   depth trades E* against that fall). Sharp sources enter with each curve's sigma_y at its
   maximum depth (Dao reverse analysis). Weighted least squares, each source's residuals
@@ -47,6 +48,7 @@ from filmscale.core.errors import InputError
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
 from .sharp import MIN_REL_STD, StrengthPoint, nix_gao_strengths, sharp_strength_points
 from .sphere import sphere_radius
+from .target import SphereTarget
 
 #: floor of a sphere source's noise in the joint weights (as a fraction of its largest load)
 MIN_NOISE = 1e-4
@@ -71,21 +73,28 @@ class CalibrationPart:
 
 
 def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
-                indenter: ElasticPlastic | None = None) -> CalibrationPart:
+                indenter: ElasticPlastic | None = None, thickness: float | None = None,
+                substrate: ElasticPlastic | None = None) -> CalibrationPart:
     """A sphere source: its loading points after a pop-in with E* fixed by the Hertz fit
     before it, else all its loading points with E* free; approaches from the source's own
-    contact zero."""
+    contact zero. With ``thickness`` and ``substrate`` the layer is a film on that substrate,
+    as the source's own calibration took it: the law sees the Gao-weighted E_p, sigma_y and
+    nu at each approach (`SphereTarget`'s weights), the film's sigma_y being the joint
+    sigma_y(delta); a substrate without sigma_y takes the film's."""
     law = contact_law(law) if isinstance(law, str) else law
     nu = cal.nu
     compliance = 0.0 if indenter is None else indenter.compliance
+    target = SphereTarget(nu, indenter, thickness, substrate)
     loading, fitted, free = [], [], True
     for c in curves:
         recorded, P, pop = loading_points(c, with_pop_in=True)
         h = np.clip(recorded - cal.contact_zero, 0.0, None)
         r = sphere_radius(c, None)
-        loading.append((recorded, h, P, r))
-        fitted.append((h if pop is None else h[pop + 1:], P if pop is None else P[pop + 1:],
-                       r, float(P.max())))
+        w = target.film_weights(h, r)
+        loading.append((recorded, h, P, r, w))
+        keep = slice(None) if pop is None else slice(pop + 1, None)
+        fitted.append((h[keep], P[keep], r, float(P.max()),
+                       None if w is None else tuple(x[keep] for x in w)))
         free = free and pop is None
     fitted = [d for d in fitted if d[0].size]
     if not fitted:      # a pop-in at the last point: the source gives E alone
@@ -95,11 +104,18 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
     def e_star(E):
         return reduced_modulus(E / (1.0 - nu**2), indenter)
 
+    def force(h, r, E_star, sigma, w):
+        """The law's force with the layer's reduced modulus E_star and strength sigma (arrays
+        over h), or what a film of them on the substrate presents there."""
+        if w is None:
+            return law.contact(h, r, E_star, sigma, nu).force
+        return law.contact(h, r, *target.felt(E_star, sigma, w)).force
+
     E_own, s_own = e_star(cal.E.value), cal.sigma_y.value
 
     def misfit(E_star, sigma_at):
-        return np.concatenate([(law.contact(h, r, E_star, sigma_at(h), nu).force - P) / Pm
-                               for h, P, r, Pm in fitted])
+        return np.concatenate([(force(h, r, E_star, sigma_at(h), w) - P) / Pm
+                               for h, P, r, Pm, w in fitted])
     noise = max(float(np.sqrt(np.mean(misfit(E_own, lambda h: s_own)**2))), MIN_NOISE)
 
     def residuals(sigma_at, own):
@@ -117,8 +133,8 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
                  if cal.sigma_y.identified and dF @ dF > 0 else ())
 
     def forward(E, n, sigma_at):
-        return tuple((recorded, P, law.contact(h, r, e_star(E), sigma_at(h), nu).force)
-                     for recorded, h, P, r in loading)
+        return tuple((recorded, P, force(h, r, e_star(E), sigma_at(h), w))
+                     for recorded, h, P, r, w in loading)
     return CalibrationPart(label, cal, strengths, residuals,
                            (math.log(E_own),) if free else (), modulus if free else None,
                            forward)

@@ -88,6 +88,29 @@ class SphereTarget:
                                                substrate)).properties(delta, R)
         return reduced_modulus(e_p, self.indenter), s_y, nu
 
+    def film_weights(self, delta, R):
+        """Gao's (I1, I0) weights of the film and the substrate at approaches ``delta`` (m)
+        under a sphere of radius R (they depend on the Poisson ratios only), or None for a
+        half-space: what `felt` combines."""
+        if not self.layered:
+            return None
+        film = ElasticPlastic(self.substrate.E, self.nu, 1.0)     # E, sigma_y do not count
+        profile = StackProfile(LayerStack((Layer(self.thickness, film),), self.substrate))
+        return profile.weights(np.asarray(delta, dtype=float), R)
+
+    def felt(self, E_star, sigma_y, weights):
+        """(E*, sigma_y, nu) felt through `film_weights` when the film has reduced modulus
+        ``E_star`` and strength ``sigma_y`` (Pa; arrays over the approaches allowed): the
+        Gao-weighted plane-strain moduli, strengths and Poisson ratios (a substrate without
+        sigma_y takes the film's), E_p made reduced against the tip."""
+        w1, w0 = weights
+        film_Ep = self.layer_modulus(E_star) / (1.0 - self.nu**2)
+        s = self.substrate
+        sub_sy = s.sigma_y if math.isfinite(s.sigma_y) else sigma_y
+        E_p = w0[..., 0] * film_Ep + w0[..., 1] * s.plane_strain_modulus
+        return (reduced_modulus(E_p, self.indenter), w0[..., 0] * sigma_y + w0[..., 1] * sub_sy,
+                w1[..., 0] * self.nu + w1[..., 1] * s.nu)
+
     def forces(self, law: ContactLaw, delta, R, E_star, sigma_y, yielding_substrate=True):
         """(force (N), branch) of ``law`` over a loading record of approaches ``delta``."""
         delta = np.asarray(delta, dtype=float)

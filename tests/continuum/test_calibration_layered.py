@@ -102,3 +102,20 @@ def test_a_curve_whose_shape_contradicts_its_tip_is_refused():
                                                 indenter="berkovich")
     with pytest.raises(InputError, match="looks spherical"):
         calibrate_sharp(sphere_as_berkovich, nu=0.3)
+
+
+@pytest.mark.parametrize("sub_sigma_y", [3e9, float("inf")])
+def test_felt_properties_are_the_profiles_own(sub_sigma_y):
+    """`SphereTarget.felt` over `film_weights` (what the joint fit uses, with a depth-varying
+    sigma_y) gives what `properties` (the impact model's StackProfile) gives for a constant
+    one, to round-off; a substrate without sigma_y takes the film's."""
+    from filmscale.continuum.materials import DIAMOND
+    sub = ElasticPlastic(300e9, 0.25, sub_sigma_y, name="sub")
+    target = SphereTarget(NU, DIAMOND, T, sub)
+    delta = np.linspace(1e-10, 2e-7, 50)
+    R = 1e-6
+    want = target.properties(delta, R, E_STAR, SY_FILM)
+    got = target.felt(E_STAR, np.full(delta.size, SY_FILM), target.film_weights(delta, R))
+    for g, w in zip(got, want):
+        np.testing.assert_allclose(g, w, rtol=1e-12)
+    assert SphereTarget(NU).film_weights(delta, R) is None

@@ -10,6 +10,9 @@ Rules (docs/physics.md; benchmarks/impact_speed_vs_error.py):
    alone, with that change reported as the error of skipping them.
 4. The closed-form Hertz impact where no point yields; otherwise the elastic-plastic law.
 5. The fast maxima path (energy quadrature) unless time histories are asked for.
+6. An MD source's settings are read against the measured speed-against-error table
+   (`workflows.md_settings`): its bias and seed scatter are stated, and settings whose effect
+   on the film's E exceeds the scene's tolerance, or cheaper ones within it, are named.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from filmscale.continuum import ImpactModel
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.errors import InputError
+from filmscale.workflows.md_settings import md_settings_advice
 from filmscale.workflows.scene import CalibrationSource, PipelineScene, Scene, layer_sources
 
 FRICTION_LIMIT = 0.3
@@ -52,6 +56,7 @@ class Step:
     reason: str
     error: str
     cost_s: float
+    advice: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -65,21 +70,27 @@ class Plan:
             cost = f"{s.cost_s:.3g} s" if math.isfinite(s.cost_s) else "after calibration"
             lines += [f"{i}. {s.name}: {s.model}", f"   why:   {s.reason}",
                       f"   error: {s.error}", f"   cost:  {cost}"]
+            lines += [f"   advice: {a}" for a in s.advice]
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
         return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
 
 
-def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
-    """The plan step of one calibration source, its cost from measured throughputs;
-    ``joint``: one of several sources of its layer."""
+def _calibration_step(src: CalibrationSource, base: Path, joint: bool,
+                      tolerance: float) -> Step:
+    """The plan step of one calibration source, its cost from measured throughputs and, for
+    MD, its settings against the measured table (rule 6); ``joint``: one of several sources
+    of its layer; ``tolerance``: the scene's, applied to the film's E."""
     fit = ("then a calibration (sphere tips: least squares to the contact law; sharp tips: "
            "Dao reverse analysis) and a cross-scale check to "
            + ("twice the curves' noise" if src.tolerance is None else f"{src.tolerance:.0%}")
            + " rms" + (f", {src.exclude} range left out" if src.exclude else ""))
     spec = src.spec(base)
+    error, advice = "the fit's own standard deviations, reported with the calibration", ()
     if src.kind == "md":
+        settings, advice = md_settings_advice(spec, tolerance)
+        error = f"{error}; {settings} (rule 6)"
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
         cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np) * src.seeds
         ensemble = f", {src.seeds} seeds (one unit each)" if src.seeds > 1 else ""
@@ -96,8 +107,7 @@ def _calibration_step(src: CalibrationSource, base: Path, joint: bool) -> Step:
         cost = 0.0
         model = f"curves from {', '.join(src.source)} {fit}"
     return Step(f"calibrate {src.name}" + (f" from {src.label}" if joint else ""), model,
-                "the layer's E and sigma_y are not given (rule 1)",
-                "the fit's own standard deviations, reported with the calibration", cost)
+                "the layer's E and sigma_y are not given (rule 1)", error, cost, advice)
 
 
 def _joint_step(name: str, sources: list[CalibrationSource]) -> Step:
@@ -210,7 +220,8 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
     The calibration steps stay in the plan once done, so that the stored plan is complete."""
     steps = []
     for sources in layer_sources(pipeline).values():
-        steps += [_calibration_step(s, pipeline.base, len(sources) > 1) for s in sources]
+        steps += [_calibration_step(s, pipeline.base, len(sources) > 1, pipeline.tolerance)
+                  for s in sources]
         if len(sources) > 1:
             steps.append(_joint_step(sources[0].name, sources))
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]

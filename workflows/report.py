@@ -13,7 +13,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from filmscale.continuum.calibration.result import CrossCheck
+from filmscale.continuum.calibration.result import CrossCheck, pop_in_bottom
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
 from filmscale.workflows.result import RESULT_FORMAT
@@ -42,13 +42,20 @@ def _checks(group) -> list[CrossCheck]:
 
 
 def _draw_calibration(ax, group, title: str):
-    """Each calibration curve (points) and the calibrated forward model (line); log axes
-    where the curves span more than a decade of depth (nanometre and micrometre sources)."""
+    """Each calibration curve (points) and the calibrated forward model (line), with the
+    range a cross-scale check left out shaded; log axes where the curves span more than a
+    decade of depth (nanometre and micrometre sources)."""
     curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
     depths = [float(group[k]["h"][()].max()) for k in curves]
+    excluded = any(c.excluded == "pop-in" for c in _checks(group))
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
         color = f"C{i % 10}"
+        bottom = pop_in_bottom(h, P) if excluded else None
+        if bottom is not None:
+            ax.axvspan(0.0, h[bottom] * 1e9, color=color, alpha=0.1, lw=0,
+                       label="left out of the check: the pop-in (no law has one)"
+                       if i == 0 else None)
         ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=color,
                 label="calibration curve" if i == 0 else None)
         ax.plot(h * 1e9, F * 1e9, "-", color=color,
@@ -59,7 +66,7 @@ def _draw_calibration(ax, group, title: str):
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel("load P (nN)")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="lower right")
 
 
 def _draw_residuals(ax, group):

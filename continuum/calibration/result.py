@@ -146,7 +146,7 @@ class Calibration:
         resid, before, excluded = [], [], 0
         for h, P, F in curves:
             r = (F - P) / P.max()
-            bottom = _pop_in_bottom(h, P)
+            bottom = pop_in_bottom(h, P)
             if bottom is not None:
                 before.append(r[:bottom + 1])
             if exclude == "pop-in" and bottom is not None:
@@ -230,7 +230,7 @@ class CrossCheck:
         return out + (f"; {self.lacks}" if self.lacks else "")
 
 
-def _pop_in_bottom(h, P) -> int | None:
+def pop_in_bottom(h, P) -> int | None:
     """Index of the bottom of the first pop-in's load drop on a loading record: the first
     point after the peak (`elastic_limit`) that has lost 80 % of the load the peak loses at
     most afterwards (the load then fluctuates on its flow plateau); None without a pop-in."""

@@ -64,7 +64,8 @@ class IndentAnalysis:
         lines = [f"P_max {self.P_max * nN:.2f} nN at h_max {self.h_max * nm:.3f} nm; "
                  f"residual depth {self.residual_depth * nm:.3f} nm",
                  f"Hertz: E_r {self.E_r_hertz * GPa:.1f} GPa over {self.hertz_points} points "
-                 f"(rms {self.hertz_rms:.3f}, zero {self.hertz_offset * 1e10:+.2f} A); potential's E* {self.E_star * GPa:.1f} GPa "
+                 f"(rms {self.hertz_rms:.3f}, zero {self.hertz_offset * 1e10:+.2f} A); "
+                 f"potential's E* {self.E_star * GPa:.1f} GPa "
                  f"(ratio {self.hertz_ratio:.3f}), indentation modulus of the surface "
                  f"{self.M * GPa:.1f} GPa (ratio {self.hertz_ratio_M:.3f})"]
         if math.isfinite(self.popin_load):

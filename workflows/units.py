@@ -1,33 +1,57 @@
 """The unit store: every run unit of a scene (an MD or particle-model indentation, a
 calibration, the impact evaluation) lives in ``STORE/<kind>-<hash>``, the hash taken over its
-complete inputs and the code version. A finished unit holds ``done.json``; a rerun reuses it,
-and an interrupted unit resumes (an MD unit from its last restart file). Every file of a unit
-is written atomically."""
+physics inputs and the code version of the package (not rank counts, install paths or the
+files beside the package: a store moves between machines). A finished unit holds
+``done.json`` with the checksums of the record and of the files a reuse reads; a rerun
+verifies and reuses it, and a corrupted unit is set aside (``<unit>.corrupt-<time>``) and
+computed again. An interrupted unit resumes (an MD unit from its last restart file). One
+process computes a unit at a time (``STORE/<unit>.lock``); another waits, then reuses it.
+Every file of a unit is written atomically."""
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import sys
+import time
+from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
+from filelock import FileLock, Timeout
 
+import filmscale
 from filmscale import __version__
 from filmscale.continuum.calibration.ensemble import calibrate_ensemble
 from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
 from filmscale.continuum.calibration.result import Calibration
 from filmscale.continuum.calibration.route import calibrate, sharp_tip_of, tip_counterpart
 from filmscale.core.files import atomic_path, write_json
-from filmscale.core.provenance import source_revision
+from filmscale.core.jsonable import dumps
 from filmscale.workflows.plan import Plan, chosen_model
+from filmscale.workflows.progress import progress_bar, step_callback
 from filmscale.workflows.scene import CalibrationSource, Scene
 
 
+#: the subpackages whose files (code and data) make the code version; the tests, benchmarks,
+#: docs and scenes beside them in a checkout do not count
+CODE_PARTS = ("core", "continuum", "md", "potentials", "workflows")
+
+
+@functools.lru_cache(maxsize=1)
 def code_version() -> str:
-    """The package version and source revision that every unit's hash includes."""
-    return f"{__version__}+{source_revision()}"
+    """The package version and a digest of the package's own files, which every unit's hash
+    includes: any change of the code makes new units, a change beside it does not."""
+    root = Path(filmscale.__file__).resolve().parent
+    files = [root / "__init__.py", root / "__main__.py"] + sorted(
+        p for part in CODE_PARTS for p in (root / part).rglob("*")
+        if p.is_file() and "__pycache__" not in p.parts)
+    digest = hashlib.sha256()
+    for p in files:
+        digest.update(p.relative_to(root).as_posix().encode() + b"\0" + p.read_bytes())
+    return f"{__version__}+{digest.hexdigest()[:16]}"
 
 
 def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
@@ -37,15 +61,60 @@ def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
     return Path(store) / f"{kind}-{hashlib.sha256(blob.encode()).hexdigest()[:16]}"
 
 
+@contextmanager
+def unit_lock(path: Path):
+    """Hold ``<unit>.lock`` beside the unit while it is checked and computed: a second
+    process (another `filmscale run`, a task of the same job array) waits here, then finds
+    the unit done and reuses it. Kernel locks (fcntl): they vanish with a killed process."""
+    lock = FileLock(f"{path}.lock")
+    try:
+        lock.acquire(timeout=0)
+    except Timeout:
+        say(f"waiting for another process computing {path.name}")
+        lock.acquire()
+    try:
+        yield
+    finally:
+        lock.release()
+
+
+def _record_digest(record: dict) -> str:
+    return hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()
+
+
 def done_record(path: Path) -> dict | None:
-    """The record of a finished unit, None while it is not finished."""
+    """The record of a finished unit, None while it is not finished. A unit whose record or
+    checked files do not match their checksums (or cannot be read) is set aside as
+    ``<unit>.corrupt-<time>`` with one line saying why, and None returned: it is computed
+    again, and nothing of it is deleted."""
     marker = path / "done.json"
-    return json.loads(marker.read_text()) if marker.exists() else None
-
-
-def finish_unit(path: Path, record: dict) -> dict:
-    write_json(path / "done.json", record, indent=None)
+    if not marker.exists():
+        return None
+    try:
+        record = json.loads(marker.read_text())
+        sums = record.pop("checksums")
+        if _record_digest(record) != sums["record"]:
+            raise ValueError("its record was changed")
+        for name, digest in sums["files"].items():
+            if not (path / name).is_file() or _file_digest(path / name) != digest:
+                raise ValueError(f"{name} is missing or changed")
+    except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError) as exc:
+        aside = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%S')}")
+        path.rename(aside)
+        say(f"unit {path.name} is corrupted ({exc}): set aside as {aside.name}, computing it "
+            "again")
+        return None
     return record
+
+
+def finish_unit(path: Path, record: dict, files=()) -> dict:
+    """Mark the unit finished: ``done.json`` holds the record and the checksums of the record
+    and of ``files`` (the names, in the unit, that a reuse reads)."""
+    plain = json.loads(dumps(record))
+    sums = {"record": _record_digest(plain),
+            "files": {name: _file_digest(path / name) for name in files}}
+    write_json(path / "done.json", {**plain, "checksums": sums}, indent=None)
+    return plain
 
 
 def say(message: str):
@@ -53,10 +122,9 @@ def say(message: str):
     print(f"filmscale: {message}", file=sys.stderr, flush=True)
 
 
-def _progress_bar(total: int):
-    from tqdm import tqdm
-    bar = tqdm(total=total, unit="step", disable=None, file=sys.stderr)
-    return bar, lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
+def _progress_bar(total: int, label: str):
+    bar = progress_bar(total, "step", label)
+    return bar, step_callback(bar, total)
 
 
 def run_md(spec, path: Path, ranks: int):
@@ -70,7 +138,7 @@ def run_md(spec, path: Path, ranks: int):
     from filmscale.md.record import run_provenance
     from filmscale.md.structures import surface_normal
     from filmscale.md.run import run_indentation
-    bar, progress = _progress_bar(spec.protocol.schedule().s_end)
+    bar, progress = _progress_bar(spec.protocol.schedule().s_end, f"{path.name} (MD)")
     try:
         run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)
     finally:
@@ -99,7 +167,7 @@ def run_particle_model(spec, path: Path, ranks: int):
     from filmscale.md.engine import EngineOptions, lammps_info
     from filmscale.md.particle_inputs import estimated_steps
     from filmscale.md.particle_run import run_particles
-    bar, progress = _progress_bar(estimated_steps(spec))
+    bar, progress = _progress_bar(estimated_steps(spec), f"{path.name} (particles)")
     try:
         run = run_particles(spec, path, EngineOptions(np=ranks, omp_threads=1),
                             progress=progress)
@@ -117,14 +185,26 @@ _RUNNERS = {"md": ("md-indent", run_md), "particles": ("particle-indent", run_pa
 def run_unit(src: CalibrationSource, spec, store: Path) -> tuple[Path, bool]:
     """Run (or resume, or reuse) one MD or particle-model indentation of a source."""
     kind, runner = _RUNNERS[src.kind]
-    path = unit_dir(store, kind, {"spec": spec.to_dict(), "np": src.np})
-    if done_record(path) is not None:
-        return path, True
-    say(f"{kind} {spec.name} for {src.name} in {path}")
-    curve, record = runner(spec, path, src.np)
-    np.savez(path / "curve.npz", h=curve.h, P=curve.P, segment=curve.segment)
-    finish_unit(path, {"indenter": curve.indenter.spec, **record})
+    path = unit_dir(store, kind, {"spec": _physics(spec.to_dict())})
+    with unit_lock(path):
+        if done_record(path) is not None:
+            return path, True
+        say(f"{kind} {spec.name} for {src.name} in {path}")
+        curve, record = runner(spec, path, src.np)
+        with atomic_path(path / "curve.npz") as tmp:
+            with open(tmp, "wb") as f:
+                np.savez(f, h=curve.h, P=curve.P, segment=curve.segment)
+        finish_unit(path, {"indenter": curve.indenter.spec, **record}, ("curve.npz",))
     return path, False
+
+
+def _physics(spec: dict) -> dict:
+    """A spec's record as its unit is hashed: the potential by content (its sha256), not by
+    where it is installed."""
+    if isinstance(spec.get("potential"), dict):
+        spec = {**spec, "potential": {k: v for k, v in spec["potential"].items()
+                                      if k != "path"}}
+    return spec
 
 
 def source_units(src: CalibrationSource, base: Path, store: Path
@@ -164,18 +244,19 @@ def calibration_part(src: CalibrationSource, cal: Calibration, curves: list, fil
 
 def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
     """The calibration stored in unit ``path`` (reused), or ``compute()`` stored there."""
-    record = done_record(path)
-    reused = record is not None
-    if not reused:
-        path.mkdir(parents=True, exist_ok=True)
-        cal = compute()
-        fitted = {}
-        for i, (h, P, F) in enumerate(cal.fitted_curves):
-            fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
-        with atomic_path(path / "fit.npz") as tmp:
-            with open(tmp, "wb") as f:
-                np.savez(f, **fitted)
-        record = finish_unit(path, cal.to_dict())
+    with unit_lock(path):
+        record = done_record(path)
+        reused = record is not None
+        if not reused:
+            path.mkdir(parents=True, exist_ok=True)
+            cal = compute()
+            fitted = {}
+            for i, (h, P, F) in enumerate(cal.fitted_curves):
+                fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
+            with atomic_path(path / "fit.npz") as tmp:
+                with open(tmp, "wb") as f:
+                    np.savez(f, **fitted)
+            record = finish_unit(path, cal.to_dict(), ("fit.npz",))
     with np.load(path / "fit.npz") as d:
         fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
                        for i in range(len(d.files) // 3))

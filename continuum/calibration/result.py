@@ -112,6 +112,8 @@ class Calibration:
             d[key] = tuple(d.get(key, ()))
         d["rms"] = _float(d["rms"])
         d["curve_noise"] = _float(d.get("curve_noise"))
+        if d.get("pop_in"):
+            d["pop_in"] = {k: math.nan if v is None else v for k, v in d["pop_in"].items()}
         return cls(**d, fitted_curves=tuple(fitted_curves))
 
     def cross_check(self, tolerance: float | None = None, source: str = "",

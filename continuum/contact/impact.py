@@ -20,7 +20,6 @@ Units: SI throughout (m, kg, m/s, N, Pa, s, J).
 from __future__ import annotations
 
 import math
-import os
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -37,6 +36,7 @@ from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, STATUS_MESS
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_choice,
                                    check_positive_array, check_real)
+from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError, ModelRangeError
 
 from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
@@ -246,7 +246,7 @@ class ImpactModel:
                               n_fields, status, regime, yielded)
             return block.size
 
-        workers = min(len(blocks), os.cpu_count() or 1)
+        workers = min(len(blocks), usable_cores())
         done = 0
         with ThreadPoolExecutor(workers) if workers > 1 else nullcontext() as pool:
             for size in (pool.map if pool else map)(solve, blocks):

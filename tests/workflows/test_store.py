@@ -1,0 +1,117 @@
+"""The unit store as many jobs share it: one process per unit (the others wait and reuse), a
+corrupted unit found by its checksums and computed again (never reused, never a traceback),
+and unit hashes that cover the physics and the package's code, not the rank count or where
+the store or the package lie. Oracles: a lone run of the same scene (bit-identical results),
+and the first run's own values."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from filmscale.workflows import pipeline as pl
+from filmscale.workflows.scene import parse_pipeline
+from filmscale.workflows.units import code_version
+from tests.workflows.test_pipeline import BASE, _sphere_curve_file
+
+CURVES_FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
+
+
+def _curves_scene(tmp_path):
+    _sphere_curve_file(tmp_path)
+    text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=CURVES_FILM,
+                       want='["maxima"]')
+    return parse_pipeline(text, "s.toml", tmp_path)
+
+
+def _results(path):
+    with h5py.File(path, "r") as f:
+        return (f["calibration/0"].attrs["E"], f["calibration/0"].attrs["sigma_y"],
+                f["impact/point/delta_max"][()], f["impact/point/restitution"][()])
+
+
+@pytest.mark.parametrize("damage", ["flip a byte of fit.npz", "change E in done.json",
+                                    "truncate done.json", "flip a byte of impact.npz"])
+def test_a_corrupted_unit_is_set_aside_and_computed_again(tmp_path, capsys, damage):
+    scene, store = _curves_scene(tmp_path), tmp_path / "store"
+    first = pl.run_scene(scene, store, tmp_path / "a.h5")
+    unit = next(p for p in store.glob("impact-*" if "impact" in damage else "calibration-*")
+                if p.is_dir())
+    if damage.startswith("flip"):
+        target = unit / damage.split(" of ")[1]
+        data = bytearray(target.read_bytes())
+        data[len(data) // 2] ^= 0xFF
+        target.write_bytes(bytes(data))
+    elif damage == "change E in done.json":
+        record = json.loads((unit / "done.json").read_text())
+        record["E"]["value"] *= 1.01
+        (unit / "done.json").write_text(json.dumps(record))
+    else:
+        text = (unit / "done.json").read_text()
+        (unit / "done.json").write_text(text[:len(text) // 2])
+    capsys.readouterr()
+    second = pl.run_scene(scene, store, tmp_path / "b.h5")
+    err = capsys.readouterr().err
+    assert second.units[unit.name] == "ran"
+    assert f"unit {unit.name} is corrupted" in err
+    assert len(list(store.glob(f"{unit.name}.corrupt-*"))) == 1     # nothing deleted
+    assert _results(second.path) == _results(first.path)
+    # the recomputed unit is sound again: a third run reuses everything
+    assert set(pl.run_scene(scene, store, tmp_path / "c.h5").units.values()) == {"reused"}
+
+
+def test_the_code_version_is_the_packages_own_files():
+    """Files beside the package (tests, docs, scenes) do not enter the hash; it is stable
+    within a process and names the package version."""
+    import filmscale
+    version = code_version()
+    assert version.startswith(filmscale.__version__ + "+") and version == code_version()
+
+
+MD_FILM = '[target.layers.calibrate]\nmd = "ci"\nnp = {np}'
+
+
+def _md_scene_file(tmp_path, np_):
+    path = tmp_path / f"scene{np_}.toml"
+    path.write_text(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="",
+                                film=MD_FILM.format(np=np_), want='["maxima"]'))
+    return path
+
+
+def _run(scene, store, out):
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    return subprocess.Popen([sys.executable, "-m", "filmscale", "run", str(scene), "--store",
+                             str(store), "--out", str(out)], stderr=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True, env=env)
+
+
+def test_two_runs_at_once_compute_each_unit_once_and_the_store_moves(tmp_path):
+    """Two `filmscale run` of one scene on one store, started together (an MD ci unit of a
+    few seconds, its calibration, the impact): one computes each unit, the other waits and
+    reuses it, and both results equal a lone run in another store bit for bit. The store
+    then copied elsewhere and run with --np 2 instead of 1 reuses every unit."""
+    scene, store = _md_scene_file(tmp_path, 1), tmp_path / "store"
+    runs = [_run(scene, store, tmp_path / f"r{i}.h5") for i in range(2)]
+    outputs = [p.communicate(timeout=600) for p in runs]
+    assert [p.returncode for p in runs] == [0, 0], outputs
+    errors = "".join(err for _, err in outputs)
+    assert errors.count("filmscale: md-indent ci-cu001") == 1          # LAMMPS ran once
+    assert "waiting for another process computing md-indent-" in errors
+    assert len([p for p in store.glob("md-indent-*") if p.is_dir()]) == 1
+    lone = _run(scene, tmp_path / "lone", tmp_path / "lone.h5")
+    assert lone.communicate(timeout=600) and lone.returncode == 0
+    want = _results(tmp_path / "lone.h5")
+    for i in range(2):
+        assert _results(tmp_path / f"r{i}.h5") == want
+    moved = tmp_path / "elsewhere" / "store"
+    shutil.copytree(store, moved)
+    again = pl.run_scene(parse_pipeline(_md_scene_file(tmp_path, 2).read_text(), "s.toml",
+                                        tmp_path), moved, tmp_path / "moved.h5")
+    assert set(again.units.values()) == {"reused"}
+    np.testing.assert_array_equal(_results(again.path), want)

@@ -62,18 +62,22 @@ def unit_dir(store: Path, kind: str, inputs: dict) -> Path:
 
 
 @contextmanager
-def unit_lock(path: Path):
-    """Hold ``<unit>.lock`` beside the unit while it is checked and computed: a second
-    process (another `filmscale run`, a task of the same job array) waits here, then finds
-    the unit done and reuses it. Kernel locks (fcntl): they vanish with a killed process."""
+def unit_lock(path: Path, wait: bool = True):
+    """Hold ``<unit>.lock`` beside the unit while it is checked and computed, and yield True:
+    a second process (another `filmscale run`, a task of the same job array) waits here,
+    then finds the unit done and reuses it; with ``wait=False`` it gets False at once instead
+    (and must not touch the unit). Kernel locks (fcntl): they vanish with a killed process."""
     lock = FileLock(f"{path}.lock")
     try:
         lock.acquire(timeout=0)
     except Timeout:
+        if not wait:
+            yield False
+            return
         say(f"waiting for another process computing {path.name}")
         lock.acquire()
     try:
-        yield
+        yield True
     finally:
         lock.release()
 
@@ -182,11 +186,15 @@ def run_particle_model(spec, path: Path, ranks: int):
 _RUNNERS = {"md": ("md-indent", run_md), "particles": ("particle-indent", run_particle_model)}
 
 
-def run_unit(src: CalibrationSource, spec, store: Path) -> tuple[Path, bool]:
-    """Run (or resume, or reuse) one MD or particle-model indentation of a source."""
+def run_unit(src: CalibrationSource, spec, store: Path, wait: bool = True
+             ) -> tuple[Path, bool] | None:
+    """Run (or resume, or reuse) one MD or particle-model indentation of a source; None when
+    another process holds it and not ``wait``."""
     kind, runner = _RUNNERS[src.kind]
     path = unit_dir(store, kind, {"spec": _physics(spec.to_dict())})
-    with unit_lock(path):
+    with unit_lock(path, wait) as held:
+        if not held:
+            return None
         if done_record(path) is not None:
             return path, True
         say(f"{kind} {spec.name} for {src.name} in {path}")
@@ -213,7 +221,11 @@ def source_units(src: CalibrationSource, base: Path, store: Path
     are read), and its curves: one per run unit (an MD ensemble has one per seed)."""
     if src.kind == "curves":
         return [], src.curves(base)
-    units = [run_unit(src, spec, store) for spec in src.member_specs(base)]
+    specs = src.member_specs(base)
+    # first the members no other process holds, then wait for the rest: the tasks of a job
+    # array that share an ensemble spread over its seeds instead of queueing on the first
+    units = [run_unit(src, spec, store, wait=False) for spec in specs]
+    units = [u or run_unit(src, spec, store) for u, spec in zip(units, specs)]
     return units, [unit_curve(path) for path, _ in units]
 
 

@@ -9,6 +9,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import h5py
@@ -115,3 +116,24 @@ def test_two_runs_at_once_compute_each_unit_once_and_the_store_moves(tmp_path):
                                         tmp_path), moved, tmp_path / "moved.h5")
     assert set(again.units.values()) == {"reused"}
     np.testing.assert_array_equal(_results(again.path), want)
+
+
+def test_two_runs_of_an_ensemble_share_out_its_seeds(tmp_path):
+    """seeds = 2 on the ci preset, a second `filmscale run` started once the first is inside
+    its first seed: the second takes the other seed instead of waiting (each process runs
+    LAMMPS once), and both results equal (each then reuses the other's unit)."""
+    scene = tmp_path / "ensemble.toml"
+    scene.write_text(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="",
+                                 film=MD_FILM.format(np=1) + "\nseeds = 2", want='["maxima"]'))
+    store = tmp_path / "store"
+    first = _run(scene, store, tmp_path / "a.h5")
+    deadline = time.time() + 120
+    while not any((p / "in.indent").exists() for p in store.glob("md-indent-*")):
+        assert first.poll() is None and time.time() < deadline, "the first run ended early"
+        time.sleep(0.05)
+    second = _run(scene, store, tmp_path / "b.h5")
+    outputs = [p.communicate(timeout=600) for p in (first, second)]
+    assert [p.returncode for p in (first, second)] == [0, 0], outputs
+    assert [err.count("filmscale: md-indent ci-cu001") for _, err in outputs] == [1, 1]
+    assert len([p for p in store.glob("md-indent-*") if p.is_dir()]) == 2
+    assert _results(tmp_path / "a.h5") == _results(tmp_path / "b.h5")

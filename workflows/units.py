@@ -86,29 +86,70 @@ def _record_digest(record: dict) -> str:
     return hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()
 
 
-def done_record(path: Path) -> dict | None:
-    """The record of a finished unit, None while it is not finished. A unit whose record or
-    checked files do not match their checksums (or cannot be read) is set aside as
-    ``<unit>.corrupt-<time>`` with one line saying why, and None returned: it is computed
-    again, and nothing of it is deleted."""
+#: why a record without checksums is not reused: an older filmscale wrote it (its code
+#: version differs, so no current hash leads to it)
+OLD_RECORD = "written by an older filmscale, without checksums"
+
+
+def check_unit(path: Path) -> tuple[dict | None, str]:
+    """(the record of a finished unit, "") when its record and checked files match their
+    checksums; (None, "") while it is not finished; (None, why) when it is corrupted."""
     marker = path / "done.json"
     if not marker.exists():
-        return None
+        return None, ""
     try:
         record = json.loads(marker.read_text())
+        if isinstance(record, dict) and "checksums" not in record:
+            return None, OLD_RECORD
         sums = record.pop("checksums")
         if _record_digest(record) != sums["record"]:
-            raise ValueError("its record was changed")
+            return None, "its record was changed"
         for name, digest in sums["files"].items():
             if not (path / name).is_file() or _file_digest(path / name) != digest:
-                raise ValueError(f"{name} is missing or changed")
+                return None, f"{name} is missing or changed"
     except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError) as exc:
+        return None, f"its record cannot be read: {exc}"
+    return record, ""
+
+
+def done_record(path: Path) -> dict | None:
+    """The record of a finished unit, None while it is not finished. A corrupted unit
+    (`check_unit`) is set aside as ``<unit>.corrupt-<time>`` with one line saying why, and
+    None returned: it is computed again, and nothing of it is deleted."""
+    record, problem = check_unit(path)
+    if problem:
         aside = path.with_name(f"{path.name}.corrupt-{time.strftime('%Y%m%dT%H%M%S')}")
         path.rename(aside)
-        say(f"unit {path.name} is corrupted ({exc}): set aside as {aside.name}, computing it "
-            "again")
-        return None
+        say(f"unit {path.name} is corrupted ({problem}): set aside as {aside.name}, computing "
+            "it again")
     return record
+
+
+def unit_states(store: Path) -> list[dict]:
+    """Every unit of a store, read without changing it: name, kind, state ("done", "running"
+    while another process holds its lock, "incomplete" when a run stopped before its end
+    (it resumes), "corrupted" with why, "set aside" for a corrupted unit already moved,
+    "old" for a unit an older filmscale wrote), its wall time where recorded."""
+    rows = []
+    for path in sorted(p for p in Path(store).iterdir() if p.is_dir()):
+        kind = path.name.split(".corrupt-")[0].rsplit("-", 1)[0]
+        if ".corrupt-" in path.name:
+            rows.append({"unit": path.name, "kind": kind, "state": "set aside"})
+            continue
+        record, problem = check_unit(path)
+        with unit_lock(path, wait=False) as free:
+            busy = not free
+        state = ("corrupted" if problem else "done" if record is not None
+                 else "running" if busy else "incomplete")
+        if problem == OLD_RECORD:
+            state = "old"
+        row = {"unit": path.name, "kind": kind, "state": state}
+        if problem:
+            row["why"] = problem
+        if record is not None and "wall_time" in record:
+            row["wall_time"] = record["wall_time"]
+        rows.append(row)
+    return rows
 
 
 def finish_unit(path: Path, record: dict, files=()) -> dict:

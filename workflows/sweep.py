@@ -1,0 +1,163 @@
+"""Sweeps: one base scene and the overrides that make many scenes of it, run locally side by
+side on one shared store (units that scenes share are computed once, `workflows.units`).
+
+A sweep file (TOML)::
+
+    base = "demo_scene.toml"          # a pipeline scene, relative to this file
+    [axes]                            # every combination of these values
+    "impactor.velocity" = [0.5, 1.0, 2.0]
+    "target.layers.0.thickness" = [2.2e-9, 5e-9]
+    [[cases]]                         # and/or explicit sets of overrides, one scene each
+    "impactor.radius" = 1e-6          # (with axes too: each case times every combination)
+
+Keys are dotted paths into the scene; an array of tables is indexed by number (layer 0 is the
+top layer). Every scene is checked like a scene file before anything runs.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import tomli_w
+
+from filmscale.core.checks import check_keys, check_table, required
+from filmscale.core.errors import InputError
+from filmscale.core.files import read_text
+from filmscale.workflows.scene import PipelineScene, parse_pipeline
+
+#: more scenes than this from one sweep file is taken for a mistake
+MAX_SCENES = 10_000
+
+
+@dataclass(frozen=True)
+class SweepScene:
+    """One scene of a sweep: its name, the overrides that made it, the checked scene."""
+
+    name: str
+    overrides: dict
+    scene: PipelineScene
+
+
+def _set(data: dict, key: str, value, where: str) -> None:
+    """Set the dotted ``key`` in the scene ``data``; its parent must exist."""
+    parts = key.split(".")
+    node = data
+    for i, part in enumerate(parts[:-1]):
+        if isinstance(node, list):
+            if not part.isdigit() or int(part) >= len(node):
+                raise InputError(f"{where}: {key!r}: {'.'.join(parts[:i])} has "
+                                 f"{len(node)} entries; {part!r} is not an index of them")
+            node = node[int(part)]
+        elif isinstance(node, dict) and part in node:
+            node = node[part]
+        else:
+            raise InputError(f"{where}: {key!r}: the base scene has no "
+                             f"{'.'.join(parts[:i + 1])}")
+    if not isinstance(node, dict):
+        raise InputError(f"{where}: {key!r}: {'.'.join(parts[:-1])} is not a table")
+    node[parts[-1]] = value
+
+
+def expand(data: dict, where: str = "sweep") -> list[dict]:
+    """The override sets of a sweep's ``axes`` and ``cases`` (see the module docstring)."""
+    data = check_keys(where, data, {"base", "name", "axes", "cases"})
+    axes = check_table(f"{where}.axes", data.get("axes", {}))
+    for key, values in axes.items():
+        if not isinstance(values, list) or not values:
+            raise InputError(f"{where}.axes.{key} must be a non-empty list of values")
+    cases = data.get("cases", [{}])
+    if not isinstance(cases, list) or not all(isinstance(c, dict) for c in cases) or not cases:
+        raise InputError(f"{where}.cases must be an array of tables ([[cases]])")
+    count = len(cases) * math.prod(len(v) for v in axes.values())
+    if count > MAX_SCENES:
+        raise InputError(f"{where} makes {count} scenes, more than {MAX_SCENES}")
+    combos = [dict(zip(axes, values)) for values in itertools.product(*axes.values())]
+    return [{**case, **combo} for case in cases for combo in combos]
+
+
+def parse_sweep(text: str, source: str, base_dir: Path) -> tuple[str, list[SweepScene]]:
+    """(the sweep's name, its scenes, each checked), from the sweep file's text."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"sweep {source} is not valid TOML: {err}") from None
+    scene_path = base_dir / str(required("sweep", data, "base"))
+    name = str(data.get("name", Path(source).stem))
+    base_text = read_text(scene_path, "base scene")
+    try:
+        base = tomllib.loads(base_text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"base scene {scene_path} is not valid TOML: {err}") from None
+    scenes = []
+    for i, overrides in enumerate(expand(data, f"sweep {source}")):
+        scene_data = copy.deepcopy(base)
+        for key, value in overrides.items():
+            _set(scene_data, key, value, f"sweep {source}")
+        scene_name = f"{name}-{i:03d}"
+        scenes.append(SweepScene(scene_name, overrides, parse_pipeline(
+            tomli_w.dumps(scene_data), f"{source}:{scene_name}", scene_path.parent)))
+    return name, scenes
+
+
+def load_sweep(path) -> tuple[str, list[SweepScene]]:
+    path = Path(path)
+    return parse_sweep(read_text(path, "sweep"), str(path), path.parent)
+
+
+def _run_one(job) -> dict:
+    """Run one scene of a sweep (in a worker process): its result path and units, or the
+    one-line error that stopped it."""
+    from filmscale.core.errors import FilmscaleError
+    from filmscale.workflows.pipeline import run_scene
+    text, source, base, store, out = job
+    try:
+        result = run_scene(parse_pipeline(text, source, Path(base)), Path(store), Path(out))
+    except FilmscaleError as err:
+        return {"error": str(err)}
+    return {"result": str(result.path), "units": result.units}
+
+
+def default_jobs(scenes: list[SweepScene]) -> int:
+    """Scenes run at once: the CPUs this process may use over the ranks one scene's runs
+    take (its largest `np`), at least 1."""
+    from filmscale.core.cores import usable_cores
+    ranks = max((src.np for s in scenes for src in s.scene.calibrations), default=1)
+    return max(1, usable_cores() // ranks)
+
+
+def run_sweep(name: str, scenes: list[SweepScene], store: Path, out_dir: Path,
+              jobs: int | None = None, say=print) -> tuple[Path, list[dict]]:
+    """Run every scene on the shared ``store`` (``jobs`` at a time, `default_jobs` when None),
+    each result as ``out_dir/<scene>.h5``; the index ``out_dir/<name>.json`` (each scene's
+    overrides, result or error, units) is rewritten as each scene ends, so that a stopped
+    sweep keeps what finished. Returns the index path and its entries."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    from filmscale.core.files import write_json
+    out_dir.mkdir(parents=True, exist_ok=True)
+    jobs = default_jobs(scenes) if jobs is None else max(1, int(jobs))
+    index = out_dir / f"{name}.json"
+    entries = [{"name": s.name, "overrides": s.overrides, "state": "pending"} for s in scenes]
+    work = [(s.scene.text, s.scene.source, str(s.scene.base), str(store),
+             str(out_dir / f"{s.name}.h5")) for s in scenes]
+    write_json(index, {"sweep": name, "scenes": entries})
+
+    def record(i: int, outcome: dict) -> None:
+        entries[i].update(outcome, state="failed" if "error" in outcome else "done")
+        write_json(index, {"sweep": name, "scenes": entries})
+        say(f"{scenes[i].name}: " + (f"failed: {outcome['error']}" if "error" in outcome
+                                     else f"done, {outcome['result']}"))
+    if jobs == 1:
+        for i, job in enumerate(work):
+            record(i, _run_one(job))
+    else:
+        with ProcessPoolExecutor(jobs) as pool:
+            futures = {pool.submit(_run_one, job): i for i, job in enumerate(work)}
+            for future in as_completed(futures):
+                record(futures[future], future.result())
+    return index, entries

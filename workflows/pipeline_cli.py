@@ -32,12 +32,25 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
+    from filmscale.core.errors import InputError
+    from filmscale.core.jsonable import dumps
+
     from .plan import plan_scene
     from .sweep import default_jobs, load_sweep, run_sweep
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
-        from filmscale.core.errors import InputError
         raise InputError(f"--jobs = {args.jobs} must be at least 1")
     name, scenes = load_sweep(args.sweep)        # every scene checked before any run
+    if args.sweep_command == "run-unit":
+        return _run_sweep_unit(args, scenes)
+    out_dir = Path(args.out_dir) if getattr(args, "out_dir", None) else Path("results") / name
+    if args.sweep_command == "submit":
+        from .slurm import submit_sweep
+        jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
+                            Path(args.store).resolve(), out_dir.resolve(), args.partition)
+        print(f"filmscale: submitted {len(jobs['units'])} run unit(s) and {len(jobs['scenes'])} "
+              f"scene(s); `filmscale status {args.store}` follows them", file=sys.stderr)
+        print(dumps(jobs))
+        return 0
     if args.sweep_command == "plan":
         for s in scenes:
             changes = ", ".join(f"{k} = {v!r}" for k, v in s.overrides.items()) or "the base"
@@ -45,9 +58,16 @@ def cmd_sweep(args) -> int:
         print(f"{len(scenes)} scene(s); `filmscale sweep run` would run "
               f"{default_jobs(scenes)} at a time here")
         return 0
-    out_dir = Path(args.out_dir) if args.out_dir else Path("results") / name
+    index_name = None
+    if args.only is not None:
+        if not 0 <= args.only < len(scenes):
+            raise InputError(f"--only = {args.only} must be a scene index in [0, "
+                             f"{len(scenes) - 1}]")
+        scenes = [scenes[args.only]]
+        index_name = f"{scenes[0].name}.json"
     index, entries = run_sweep(name, scenes, Path(args.store), out_dir, args.jobs,
-                               say=lambda m: print(f"filmscale: {m}", file=sys.stderr))
+                               say=lambda m: print(f"filmscale: {m}", file=sys.stderr),
+                               index_name=index_name)
     failed = [e["name"] for e in entries if e["state"] == "failed"]
     print(index)
     if failed:
@@ -57,20 +77,54 @@ def cmd_sweep(args) -> int:
     return 0
 
 
-def cmd_status(args) -> int:
-    from filmscale.core.jsonable import dumps
+def _run_sweep_unit(args, scenes) -> int:
+    """One run unit of a sweep (what a SLURM task of `sweep submit` runs)."""
+    from filmscale.core.errors import InputError
 
+    from .slurm import run_units
+    from .units import run_unit
+    units = run_units(scenes, Path(args.store))
+    if not 0 <= args.unit < len(units):
+        raise InputError(f"--unit = {args.unit} must be in [0, {len(units) - 1}]: the sweep "
+                         f"has {len(units)} run unit(s)")
+    i, j, k, _ = units[args.unit]
+    src = scenes[i].scene.calibrations[j]
+    path, reused = run_unit(src, src.member_specs(scenes[i].scene.base)[k], Path(args.store))
+    print(f"filmscale: {path.name} {'reused' if reused else 'ran'}", file=sys.stderr)
+    print(path)
+    return 0
+
+
+def cmd_cancel(args) -> int:
+    from .slurm import cancel
+    ids = cancel(Path(args.store))
+    print(f"filmscale: cancelled {' '.join(ids) if ids else 'nothing (no job left)'}",
+          file=sys.stderr)
+    return 0
+
+
+def cmd_status(args) -> int:
+    from .slurm import queue_states, read_jobs
     from .units import unit_states
     store = Path(args.store)
     if not store.is_dir():
         from filmscale.core.errors import InputError
         raise InputError(f"store {store} is not a folder")
     rows = unit_states(store)
+    jobs = read_jobs(store).get("units", {})
+    queue = queue_states(jobs.values())
+    for r in rows:
+        if r["unit"] in jobs:
+            r["job"] = jobs[r["unit"]]
+            if r["state"] != "done" and r["job"] in queue:
+                r["state"] = queue[r["job"]].lower()
     if args.json:
+        from filmscale.core.jsonable import dumps
         print(dumps(rows))
         return 0
     for r in rows:
-        extra = (f"  {r['wall_time']:.0f} s" if "wall_time" in r else "") + \
+        extra = (f"  job {r['job']}" if "job" in r else "") + \
+            (f"  {r['wall_time']:.0f} s" if "wall_time" in r else "") + \
             (f"  ({r['why']})" if "why" in r else "")
         print(f"{r['unit']:<40} {r['state']:<11}{extra}")
     counts = {s: sum(r["state"] == s for r in rows) for s in dict.fromkeys(
@@ -119,7 +173,29 @@ def add_commands(sub) -> None:
                    help="results and the sweep's index NAME.json (default results/NAME)")
     q.add_argument("--jobs", type=int, metavar="N",
                    help="scenes at once (default: the usable CPUs over the largest np)")
+    q.add_argument("--only", type=int, metavar="K",
+                   help="run scene K only (0-based), its index as OUT/SCENE.json")
     q.set_defaults(func=cmd_sweep)
+    q = ssub.add_parser("submit", help="submit the sweep to SLURM: its run units as one "
+                                       "array job, then its scenes after them")
+    q.add_argument("sweep", help="sweep file (TOML)")
+    q.add_argument("--store", default="filmscale_runs",
+                   help="folder of the hash-named run units, shared by every task")
+    q.add_argument("--out-dir", metavar="DIR",
+                   help="results, indexes and the tasks' logs (default results/NAME)")
+    q.add_argument("--partition", help="SLURM partition (default: the cluster's)")
+    q.set_defaults(func=cmd_sweep)
+    q = ssub.add_parser("run-unit", help="run one run unit of a sweep (what a SLURM task "
+                                         "of `sweep submit` runs)")
+    q.add_argument("sweep", help="sweep file (TOML)")
+    q.add_argument("--store", default="filmscale_runs", help="the shared store")
+    q.add_argument("--unit", type=int, required=True, metavar="K",
+                   help="the unit's place among the sweep's distinct run units")
+    q.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("cancel", help="cancel the SLURM jobs a sweep submitted to a store")
+    p.add_argument("store", help="the store folder (--store of filmscale sweep submit)")
+    p.set_defaults(func=cmd_cancel)
 
     p = sub.add_parser("status", help="every unit of a store: done, running, incomplete, "
                                       "corrupted")

@@ -131,17 +131,19 @@ def default_jobs(scenes: list[SweepScene]) -> int:
 
 
 def run_sweep(name: str, scenes: list[SweepScene], store: Path, out_dir: Path,
-              jobs: int | None = None, say=print) -> tuple[Path, list[dict]]:
+              jobs: int | None = None, say=print, index_name: str | None = None
+              ) -> tuple[Path, list[dict]]:
     """Run every scene on the shared ``store`` (``jobs`` at a time, `default_jobs` when None),
     each result as ``out_dir/<scene>.h5``; the index ``out_dir/<name>.json`` (each scene's
     overrides, result or error, units) is rewritten as each scene ends, so that a stopped
-    sweep keeps what finished. Returns the index path and its entries."""
+    sweep keeps what finished (``index_name`` names it otherwise: the tasks of a SLURM array,
+    one scene each, write one index each). Returns the index path and its entries."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     from filmscale.core.files import write_json
     out_dir.mkdir(parents=True, exist_ok=True)
     jobs = default_jobs(scenes) if jobs is None else max(1, int(jobs))
-    index = out_dir / f"{name}.json"
+    index = out_dir / (index_name or f"{name}.json")
     entries = [{"name": s.name, "overrides": s.overrides, "state": "pending"} for s in scenes]
     work = [(s.scene.text, s.scene.source, str(s.scene.base), str(store),
              str(out_dir / f"{s.name}.h5")) for s in scenes]

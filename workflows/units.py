@@ -232,7 +232,7 @@ def run_unit(src: CalibrationSource, spec, store: Path, wait: bool = True
     """Run (or resume, or reuse) one MD or particle-model indentation of a source; None when
     another process holds it and not ``wait``."""
     kind, runner = _RUNNERS[src.kind]
-    path = unit_dir(store, kind, {"spec": _physics(spec.to_dict())})
+    path = run_unit_path(src, spec, store)
     with unit_lock(path, wait) as held:
         if not held:
             return None
@@ -245,6 +245,11 @@ def run_unit(src: CalibrationSource, spec, store: Path, wait: bool = True
                 np.savez(f, h=curve.h, P=curve.P, segment=curve.segment)
         finish_unit(path, {"indenter": curve.indenter.spec, **record}, ("curve.npz",))
     return path, False
+
+
+def run_unit_path(src: CalibrationSource, spec, store: Path) -> Path:
+    """Where the run unit of ``spec`` (an MD or particle spec of ``src``) lives in ``store``."""
+    return unit_dir(store, _RUNNERS[src.kind][0], {"spec": _physics(spec.to_dict())})
 
 
 def _physics(spec: dict) -> dict:

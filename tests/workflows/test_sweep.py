@@ -101,3 +101,27 @@ def test_sweep_and_status_from_the_command_line(tmp_path, capsys):
     assert main(["sweep", "run", sweep, "--jobs", "0"]) == 2
     assert "--jobs = 0 must be at least 1" in capsys.readouterr().err
     assert main(["status", str(tmp_path / "nothing")]) == 2
+
+
+def test_the_commands_a_slurm_task_runs_and_their_refusals(tmp_path, capsys):
+    """`sweep run --only K` runs scene K alone with its own index; `sweep run-unit` names its
+    range (this sweep has no run unit: curves only); `cancel` of a store nothing was submitted
+    to, and `sweep submit` where no sbatch exists, are refused in one line."""
+    import shutil
+    _base(tmp_path)
+    sweep = str(_sweep(tmp_path, '[axes]\n"impactor.velocity" = [0.5, 2.0]'))
+    out = tmp_path / "out"
+    assert main(["sweep", "run", sweep, "--store", str(tmp_path / "store"), "--out-dir",
+                 str(out), "--only", "1"]) == 0
+    assert json.loads((out / "s-001.json").read_text())["scenes"][0]["state"] == "done"
+    assert not (out / "s-000.h5").exists() and (out / "s-001.h5").exists()
+    capsys.readouterr()
+    assert main(["sweep", "run", sweep, "--only", "2"]) == 2
+    assert "--only = 2 must be a scene index in [0, 1]" in capsys.readouterr().err
+    assert main(["sweep", "run-unit", sweep, "--unit", "0"]) == 2
+    assert "the sweep has 0 run unit(s)" in capsys.readouterr().err
+    assert main(["cancel", str(tmp_path / "store")]) == 2
+    assert "nothing was submitted there" in capsys.readouterr().err
+    if shutil.which("sbatch") is None:
+        assert main(["sweep", "submit", sweep, "--store", str(tmp_path / "s2")]) == 1
+        assert "sbatch is not on PATH" in capsys.readouterr().err

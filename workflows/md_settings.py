@@ -13,10 +13,22 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from filmscale.md.indentation import IndentProtocol
+from filmscale.md.spec import PRESETS
+
 #: the preset the table was measured on, and its value of each setting the table varies
 PRESET = "quick"
-REFERENCE = {"protocol.speed": 100.0, "protocol.timestep": 4e-15,
-             "protocol.temperature": 10.0, "slab.lateral_size": 5.5e-9}
+SETTING_KEYS = ("protocol.speed", "protocol.timestep", "protocol.temperature",
+                "slab.lateral_size")
+
+
+def _preset_value(key: str) -> float:
+    table, name = key.split(".")
+    value = PRESETS[PRESET][table].get(name)
+    return float(getattr(IndentProtocol, name) if value is None else value)
+
+
+REFERENCE = {key: _preset_value(key) for key in SETTING_KEYS}
 #: how each setting is named and shown
 SETTINGS = {"protocol.speed": ("speed", 1.0, "m/s"), "protocol.timestep": ("timestep", 1e15, "fs"),
             "protocol.temperature": ("temperature", 1.0, "K"),

@@ -48,15 +48,15 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
             runs, curves = source_units(src, pipeline.base, store)
             for path, reused in runs:
                 units[path.name] = "reused" if reused else "ran"
-            if runs:
+            record = done_record(runs[0][0]) if runs else None
+            if record is not None:
                 run_records[f"{src.kind}_{k}" + (f"_{len(part_units)}" if len(sources) > 1
-                                                 else "")] = done_record(runs[0][0])
+                                                 else "")] = record
             cal, cal_path, reused = calibration_unit(src, [path for path, _ in runs], curves,
                                                      nu, law, pipeline.base, store)
             units[cal_path.name] = "reused" if reused else "ran"
             part_units.append(cal_path)
-            parts.append((src, cal, curves, src.film(pipeline.base,
-                                                     done_record(runs[0][0]) if runs else None)))
+            parts.append((src, cal, curves, src.film(pipeline.base, record)))
         if len(sources) > 1:
             cal, cal_path, reused = joint_unit(
                 sources[0].name, lambda: [calibration_part(*p, law) for p in parts],

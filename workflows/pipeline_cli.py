@@ -141,6 +141,17 @@ def cmd_report(args) -> int:
     return 0
 
 
+def _store_argument(p, help_text="folder of the hash-named run units (default filmscale_runs)"):
+    p.add_argument("--store", default="filmscale_runs", help=help_text)
+
+
+def _sweep_parser(ssub, name: str, help_text: str):
+    q = ssub.add_parser(name, help=help_text)
+    q.add_argument("sweep", help="sweep file (TOML)")
+    q.set_defaults(func=cmd_sweep)
+    return q
+
+
 def add_commands(sub) -> None:
     p = sub.add_parser("plan", help="print the models a scene needs, why, error and cost")
     p.add_argument("scene", help="scene file (TOML)")
@@ -150,8 +161,7 @@ def add_commands(sub) -> None:
                        description="Execute the plan: MD calibrations, then the impact "
                                    "models; write one HDF5 result per scene.")
     p.add_argument("scene", help="scene file (TOML)")
-    p.add_argument("--store", default="filmscale_runs",
-                   help="folder of the hash-named run units (default filmscale_runs)")
+    _store_argument(p)
     p.add_argument("--out", metavar="RESULT.h5",
                    help="result file (default results/SCENE.h5)")
     p.add_argument("--report", action="store_true", help="also write the HTML report")
@@ -162,36 +172,26 @@ def add_commands(sub) -> None:
                                    "every combination; cases: explicit sets) that make its "
                                    "scenes; they run side by side on one shared store.")
     ssub = p.add_subparsers(dest="sweep_command", required=True)
-    q = ssub.add_parser("plan", help="print each scene's overrides and plan")
-    q.add_argument("sweep", help="sweep file (TOML)")
-    q.set_defaults(func=cmd_sweep)
-    q = ssub.add_parser("run", help="run every scene (units shared, reused and resumed)")
-    q.add_argument("sweep", help="sweep file (TOML)")
-    q.add_argument("--store", default="filmscale_runs",
-                   help="folder of the hash-named run units (default filmscale_runs)")
+    _sweep_parser(ssub, "plan", "print each scene's overrides and plan")
+    q = _sweep_parser(ssub, "run", "run every scene (units shared, reused and resumed)")
+    _store_argument(q)
     q.add_argument("--out-dir", metavar="DIR",
                    help="results and the sweep's index NAME.json (default results/NAME)")
     q.add_argument("--jobs", type=int, metavar="N",
                    help="scenes at once (default: the usable CPUs over the largest np)")
     q.add_argument("--only", type=int, metavar="K",
                    help="run scene K only (0-based), its index as OUT/SCENE.json")
-    q.set_defaults(func=cmd_sweep)
-    q = ssub.add_parser("submit", help="submit the sweep to SLURM: its run units as one "
-                                       "array job, then its scenes after them")
-    q.add_argument("sweep", help="sweep file (TOML)")
-    q.add_argument("--store", default="filmscale_runs",
-                   help="folder of the hash-named run units, shared by every task")
+    q = _sweep_parser(ssub, "submit", "submit the sweep to SLURM: its run units as one array "
+                                      "job, then its scenes after them")
+    _store_argument(q, "folder of the hash-named run units, shared by every task")
     q.add_argument("--out-dir", metavar="DIR",
                    help="results, indexes and the tasks' logs (default results/NAME)")
     q.add_argument("--partition", help="SLURM partition (default: the cluster's)")
-    q.set_defaults(func=cmd_sweep)
-    q = ssub.add_parser("run-unit", help="run one run unit of a sweep (what a SLURM task "
-                                         "of `sweep submit` runs)")
-    q.add_argument("sweep", help="sweep file (TOML)")
-    q.add_argument("--store", default="filmscale_runs", help="the shared store")
+    q = _sweep_parser(ssub, "run-unit", "run one run unit of a sweep (what a SLURM task of "
+                                        "`sweep submit` runs)")
+    _store_argument(q, "the shared store")
     q.add_argument("--unit", type=int, required=True, metavar="K",
                    help="the unit's place among the sweep's distinct run units")
-    q.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("cancel", help="cancel the SLURM jobs a sweep submitted to a store")
     p.add_argument("store", help="the store folder (--store of filmscale sweep submit)")

@@ -39,6 +39,12 @@ FRICTION_LIMIT = 0.3
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
 
 
+def md_cost_s(spec, ranks: int) -> float:
+    """Estimated wall time (s) of one MD run of ``spec`` on ``ranks`` ranks."""
+    return spec.slab_built.n_atoms * spec.protocol.schedule().s_end / (
+        MD_ATOM_STEPS_PER_RANK_S * ranks)
+
+
 #: particle-model throughput (TLSPH, docs/lammps.md), particle-steps per second per core; PERI
 #: (peri/lps) is about 4 times slower per particle
 PARTICLE_STEPS_PER_CORE_S = 2.6e5
@@ -92,7 +98,7 @@ def _calibration_step(src: CalibrationSource, base: Path, joint: bool,
         settings, advice = md_settings_advice(spec, tolerance)
         error = f"{error}; {settings} (rule 6)"
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
-        cost = atoms * steps / (MD_ATOM_STEPS_PER_RANK_S * src.np) * src.seeds
+        cost = md_cost_s(spec, src.np) * src.seeds
         ensemble = f", {src.seeds} seeds (one unit each)" if src.seeds > 1 else ""
         model = (f"MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, {src.np} "
                  f"rank(s){ensemble}) {fit}")

@@ -22,7 +22,7 @@ from pathlib import Path
 
 from filmscale.core.errors import EngineError, InputError
 from filmscale.core.files import write_json
-from filmscale.workflows.plan import MD_ATOM_STEPS_PER_RANK_S
+from filmscale.workflows.plan import md_cost_s
 from filmscale.workflows.sweep import SweepScene
 from filmscale.workflows.units import check_unit, run_unit_path
 
@@ -49,8 +49,7 @@ def _estimate_s(scene: SweepScene, j: int, k: int) -> float:
     src = scene.scene.calibrations[j]
     spec = src.member_specs(scene.scene.base)[k]
     if src.kind == "md":
-        return spec.slab_built.n_atoms * spec.protocol.schedule().s_end / (
-            MD_ATOM_STEPS_PER_RANK_S * src.np)
+        return md_cost_s(spec, src.np)
     return 3600.0       # a particle run: no measured model of its cost here; an hour
 
 

@@ -34,7 +34,6 @@ from filmscale.workflows.plan import Plan, chosen_model
 from filmscale.workflows.progress import progress_bar, step_callback
 from filmscale.workflows.scene import CalibrationSource, Scene
 
-
 #: the subpackages whose files (code and data) make the code version; the tests, benchmarks,
 #: docs and scenes beside them in a checkout do not count
 CODE_PARTS = ("core", "continuum", "md", "potentials", "workflows")
@@ -181,8 +180,8 @@ def run_md(spec, path: Path, ranks: int):
     from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.record import run_provenance
-    from filmscale.md.structures import surface_normal
     from filmscale.md.run import run_indentation
+    from filmscale.md.structures import surface_normal
     bar, progress = _progress_bar(spec.protocol.schedule().s_end, f"{path.name} (MD)")
     try:
         run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)

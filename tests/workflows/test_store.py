@@ -10,6 +10,7 @@ import shutil
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -67,11 +68,21 @@ def test_a_corrupted_unit_is_set_aside_and_computed_again(tmp_path, capsys, dama
 
 
 def test_the_code_version_is_the_packages_own_files():
-    """Files beside the package (tests, docs, scenes) do not enter the hash; it is stable
-    within a process and names the package version."""
+    """Files beside the package (tests, docs, scenes) do not enter the hash; a file inside a
+    subpackage does. Oracle: the digest recomputed (uncached) with a probe file placed in
+    each, and removed after."""
     import filmscale
     version = code_version()
     assert version.startswith(filmscale.__version__ + "+") and version == code_version()
+    root = Path(filmscale.__file__).resolve().parent
+    for folder, counts in (("tests", False), ("workflows", True)):
+        probe = root / folder / "_code_version_probe.txt"
+        try:
+            probe.write_text("probe")
+            assert (code_version.__wrapped__() != version) == counts, folder
+        finally:
+            probe.unlink()
+    assert code_version.__wrapped__() == version
 
 
 MD_FILM = '[target.layers.calibrate]\nmd = "ci"\nnp = {np}'

@@ -39,6 +39,9 @@ def cmd_sweep(args) -> int:
     from .sweep import default_jobs, load_sweep, run_sweep
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         raise InputError(f"--jobs = {args.jobs} must be at least 1")
+    if args.sweep_command == "submit":
+        from .slurm import check_unit_minutes
+        check_unit_minutes(args.time)
     name, scenes = load_sweep(args.sweep)        # every scene checked before any run
     if args.sweep_command == "run-unit":
         return _run_sweep_unit(args, scenes)
@@ -46,7 +49,8 @@ def cmd_sweep(args) -> int:
     if args.sweep_command == "submit":
         from .slurm import submit_sweep
         jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
-                            Path(args.store).resolve(), out_dir.resolve(), args.partition)
+                            Path(args.store).resolve(), out_dir.resolve(), args.partition,
+                            args.time)
         print(f"filmscale: submitted {len(jobs['units'])} run unit(s) and {len(jobs['scenes'])} "
               f"scene(s); `filmscale status {args.store}` follows them", file=sys.stderr)
         print(dumps(jobs))
@@ -187,6 +191,10 @@ def add_commands(sub) -> None:
     q.add_argument("--out-dir", metavar="DIR",
                    help="results, indexes and the tasks' logs (default results/NAME)")
     q.add_argument("--partition", help="SLURM partition (default: the cluster's)")
+    q.add_argument("--time", type=int, metavar="MINUTES",
+                   help="time limit of each run-unit task (default: three times the "
+                        "planner's estimate plus 10 min); a task near it requeues itself and "
+                        "resumes from its last restart file")
     q = _sweep_parser(ssub, "run-unit", "run one run unit of a sweep (what a SLURM task of "
                                         "`sweep submit` runs)")
     _store_argument(q, "the shared store")

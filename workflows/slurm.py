@@ -8,7 +8,9 @@ stable command lines need no adapter library. The job ids go to ``STORE/jobs.jso
 Each task is a ``filmscale`` command on the shared store (``sweep run-unit`` or
 ``sweep run --only``): the store's locks make a task that finds its unit done, running or
 requeued safe, and an MD unit killed mid-run resumes from its last restart file when SLURM
-requeues it (``--requeue``).
+requeues it (``--requeue``). A run-unit task also requeues itself before its time limit: SLURM
+sends its batch shell ``USR1`` `REQUEUE_LEAD_S` ahead (``--signal=B:USR1@...``) and the shell
+answers with ``scontrol requeue`` of its own task, at most `MAX_REQUEUES` times.
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ from filmscale.workflows.units import check_unit, run_unit_path
 
 #: a task's wall-time limit: the planner's cost estimate times this, plus `TIME_FLOOR_S`
 TIME_MARGIN, TIME_FLOOR_S = 3.0, 600.0
+#: seconds before its time limit that a run-unit task requeues itself (SLURM's signal may come
+#: up to a minute earlier than asked); the requeues of one task are capped so that a unit that
+#: makes no progress between two restart files does not loop
+REQUEUE_LEAD_S, MAX_REQUEUES = 120, 20
 
 
 def run_units(scenes: list[SweepScene], store: Path) -> list[tuple[int, int, int, Path]]:
@@ -53,18 +59,44 @@ def _estimate_s(scene: SweepScene, j: int, k: int) -> float:
     return 3600.0       # a particle run: no measured model of its cost here; an hour
 
 
-def _time_limit(seconds: float) -> str:
-    minutes = math.ceil((TIME_MARGIN * seconds + TIME_FLOOR_S) / 60.0)
+def _minutes(seconds: float) -> int:
+    return math.ceil((TIME_MARGIN * seconds + TIME_FLOOR_S) / 60.0)
+
+
+def _time_limit(minutes: int) -> str:
     return f"{minutes // 60:d}:{minutes % 60:02d}:00"
 
 
-def _sbatch(args: list[str], command: list[str], log: Path) -> str:
+def task_script(command: list[str], requeue_on_timeout: bool) -> str:
+    """The batch script of one array task. With ``requeue_on_timeout`` the command runs in the
+    background so that the shell can answer SLURM's ``USR1`` (sent `REQUEUE_LEAD_S` before
+    the time limit) by requeueing its own task; SLURM then stops the command with SIGTERM,
+    which ends its MPI run and leaves the restart files the requeued task resumes from."""
+    line = " ".join(_quote(c) for c in command)
+    if not requeue_on_timeout:
+        return f"#!/bin/sh\nexec {line}\n"
+    return (
+        "#!/bin/bash\n"
+        f"trap 'if [ \"${{SLURM_RESTART_COUNT:-0}}\" -lt {MAX_REQUEUES} ]; then echo "
+        "\"filmscale: time limit near: requeueing this task\" >&2; scontrol requeue "
+        "\"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\"; fi' USR1\n"
+        f"{line} &\n"
+        "child=$!\n"
+        # `wait` returns early when the trap runs; wait again until the command has ended
+        "while :; do wait \"$child\"; rc=$?; kill -0 \"$child\" 2>/dev/null || exit $rc; done\n")
+
+
+def _sbatch(args: list[str], command: list[str], log: Path,
+            requeue_on_timeout: bool = False) -> str:
     if shutil.which("sbatch") is None:
         raise EngineError("sbatch is not on PATH: submission needs SLURM (tools/"
                           "slurm-local.sh starts a single-node one for tests)")
-    script = "#!/bin/sh\nexec " + " ".join(_quote(c) for c in command) + "\n"
-    done = subprocess.run(["sbatch", "--parsable", "--requeue", f"--output={log}", *args],
-                          input=script, capture_output=True, text=True)
+    # appended, so that the log of a requeued task keeps what its first part wrote
+    extra = ([f"--signal=B:USR1@{REQUEUE_LEAD_S}", "--open-mode=append"]
+              if requeue_on_timeout else [])
+    done = subprocess.run(["sbatch", "--parsable", "--requeue", *extra, f"--output={log}",
+                           *args], input=task_script(command, requeue_on_timeout),
+                          capture_output=True, text=True)
     if done.returncode != 0:
         raise EngineError(f"sbatch refused the job: {done.stderr.strip()}")
     return done.stdout.strip().split(";")[0]
@@ -80,10 +112,20 @@ def _quote(word: str) -> str:
 TASK_ID = "${SLURM_ARRAY_TASK_ID}"
 
 
+def check_unit_minutes(minutes: int | None) -> None:
+    if minutes is not None and minutes * 60 <= REQUEUE_LEAD_S + 60:
+        raise InputError(f"--time = {minutes} min must exceed {(REQUEUE_LEAD_S + 60) // 60} "
+                         f"min: a task requeues itself {REQUEUE_LEAD_S} s before its limit")
+
+
 def submit_sweep(sweep_file: Path, name: str, scenes: list[SweepScene], store: Path,
-                 out_dir: Path, partition: str | None = None) -> dict:
+                 out_dir: Path, partition: str | None = None,
+                 unit_minutes: int | None = None) -> dict:
     """Submit the sweep's pending run units and then its scenes; returns (and writes to
-    ``STORE/jobs.json``) the job ids and what each array task runs."""
+    ``STORE/jobs.json``) the job ids and what each array task runs. ``unit_minutes`` replaces
+    the run-unit tasks' time limit from the cost model (a task that reaches it is requeued and
+    resumes)."""
+    check_unit_minutes(unit_minutes)
     store.mkdir(parents=True, exist_ok=True)
     out_dir.mkdir(parents=True, exist_ok=True)
     logs = out_dir / "slurm"
@@ -96,20 +138,22 @@ def submit_sweep(sweep_file: Path, name: str, scenes: list[SweepScene], store: P
     after = []
     if pending:
         ranks = max(scenes[i].scene.calibrations[j].np for _, i, j, k, _ in pending)
-        seconds = max(_estimate_s(scenes[i], j, k) for _, i, j, k, _ in pending)
+        minutes = unit_minutes or _minutes(
+            max(_estimate_s(scenes[i], j, k) for _, i, j, k, _ in pending))
         # array indices are the units' places in `run_units`, so a task finds its unit
         # whatever else is done by the time it starts
         units_job = _sbatch(
             [*common, f"--array={','.join(str(n) for n, *_ in pending)}",
              f"--job-name={name}-units", "--ntasks=1", f"--cpus-per-task={ranks}",
-             f"--time={_time_limit(seconds)}"],
+             f"--time={_time_limit(minutes)}"],
             [*base, "run-unit", str(sweep_file), "--store", str(store), "--unit", TASK_ID],
-            logs / "unit_%a.log")
+            logs / "unit_%a.log", requeue_on_timeout=True)
         jobs["units"] = {p.name: f"{units_job}_{n}" for n, *_, p in pending}
         after = [f"--dependency=afterok:{units_job}"]
     scenes_job = _sbatch(
         [*common, *after, f"--array=0-{len(scenes) - 1}", f"--job-name={name}-scenes",
-         "--ntasks=1", "--cpus-per-task=1", f"--time={_time_limit(60.0 * len(scenes))}"],
+         "--ntasks=1", "--cpus-per-task=1",
+         f"--time={_time_limit(_minutes(60.0 * len(scenes)))}"],
         [*base, "run", str(sweep_file), "--store", str(store), "--out-dir", str(out_dir),
          "--only", TASK_ID], logs / "scene_%a.log")
     jobs["scenes"] = {s.name: f"{scenes_job}_{n}" for n, s in enumerate(scenes)}

@@ -96,3 +96,28 @@ def test_a_task_killed_mid_run_is_requeued_and_resumes(tmp_path):
     for name in jobs["scenes"]:
         assert (out / f"{name}.h5").exists()
     assert _filmscale("cancel", str(store)).returncode == 0
+
+
+@pytest.mark.slow
+def test_a_task_at_its_time_limit_requeues_itself_and_resumes(tmp_path):
+    """A quick-preset MD unit (about 2 min 15 s at np = 2 here) under a 4 min limit: SLURM
+    warns the task 2 min ahead (up to a minute earlier still), the task requeues itself, and
+    the requeued task resumes from the last restart file. Nobody intervenes: SLURM's own hold
+    on a requeued job is part of the wall time (about 8 min in all here)."""
+    (tmp_path / "base.toml").write_text(BASE.format(
+        R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="",
+        film='[target.layers.calibrate]\nmd = "quick"\nnp = 2', want='["maxima"]'))
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text('base = "base.toml"\n')
+    store, out = tmp_path / "store", tmp_path / "out"
+    jobs = json.loads(_filmscale("sweep", "submit", str(sweep), "--store", str(store),
+                                 "--out-dir", str(out), "--time", "4").stdout)
+    (unit, job), = jobs["units"].items()
+    _wait([job, *jobs["scenes"].values()], timeout=1500)
+    log = (out / "slurm" / f"unit_{job.split('_')[1]}.log").read_text()
+    assert "time limit near: requeueing this task" in log, log
+    state = json.loads((store / unit / "state.json").read_text())
+    assert len(state["parts"]) >= 2, state["parts"]
+    status = json.loads(_filmscale("status", str(store), "--json").stdout)
+    assert {r["state"] for r in status} == {"done"}, status
+    assert (out / "base.h5").exists() or list(out.glob("*.h5"))

@@ -318,7 +318,10 @@ def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: Engine
         try:
             rc = proc.wait()
         except BaseException:
-            os.killpg(proc.pid, 15)
+            try:
+                os.killpg(proc.pid, 15)
+            except ProcessLookupError:      # ended already: SLURM signals a job's processes
+                pass                        # all at once (scancel, requeue)
             proc.wait()
             raise
     if rc != 0:

@@ -103,7 +103,7 @@ def test_a_task_at_its_time_limit_requeues_itself_and_resumes(tmp_path):
     """A quick-preset MD unit (about 2 min 15 s at np = 2 here) under a 4 min limit: SLURM
     warns the task 2 min ahead (up to a minute earlier still), the task requeues itself, and
     the requeued task resumes from the last restart file. Nobody intervenes: SLURM's own hold
-    on a requeued job is part of the wall time (about 8 min in all here)."""
+    on a requeued job is part of the wall time (5 min 24 s in all here)."""
     (tmp_path / "base.toml").write_text(BASE.format(
         R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="",
         film='[target.layers.calibrate]\nmd = "quick"\nnp = 2', want='["maxima"]'))

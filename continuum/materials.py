@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from filmscale.core.checks import MODULUS_MAX, THICKNESS_MAX, check_real
+from filmscale.core.checks import (MODULUS_MAX, THICKNESS_MAX, check_modulus, check_real,
+                                   check_yield_strength)
 from filmscale.core.errors import InputError
 
 
@@ -90,6 +91,18 @@ def modulus_from_reduced(E_r, nu, counterface_compliance=0.0):
         return np.where(rest > 0, (1.0 - np.asarray(nu) ** 2) / rest, np.nan)
 
 
+def check_plausible(material: ElasticPlastic, label: str = "") -> ElasticPlastic:
+    """``material`` when it could be a real solid: E within `MODULUS_PLAUSIBLE` and sigma_y
+    below E (`filmscale.core.checks`); else InputError naming ``label.E`` or
+    ``label.sigma_y`` (``label``: the material's name by default) and the likely unit slip.
+    The models call it at their entry; `ElasticPlastic` itself takes any positive values, as
+    fits try them."""
+    label = label or material.name or "material"
+    check_modulus(f"{label}.E", material.E, "Young's modulus")
+    check_yield_strength(f"{label}.sigma_y", material.sigma_y, material.E, f"{label}.E")
+    return material
+
+
 #: Diamond indenter, the usual nanoindentation counterface (docs/physics.md section 9).
 DIAMOND = ElasticPlastic(E=1141e9, nu=0.07, name="diamond")
 
@@ -102,6 +115,9 @@ class Layer:
     material: ElasticPlastic
 
     def __post_init__(self):
+        if not isinstance(self.material, ElasticPlastic):
+            raise InputError(f"a layer's material must be an ElasticPlastic, got "
+                             f"{type(self.material).__name__}")
         name = self.material.name or "layer"
         object.__setattr__(self, "thickness",
                            check_real(f"{name}.thickness", self.thickness, low=0.0,
@@ -116,6 +132,12 @@ class LayerStack:
     substrate: ElasticPlastic
 
     def __post_init__(self):
+        if not isinstance(self.substrate, ElasticPlastic):
+            raise InputError(f"a layer stack needs a substrate (an ElasticPlastic), got "
+                             f"{self.substrate!r}")
+        if isinstance(self.layers, (str, bytes)) or not hasattr(self.layers, "__iter__"):
+            raise InputError(f"layers must be a sequence of Layer objects (empty for a "
+                             f"half-space), got {self.layers!r}")
         layers = tuple(self.layers)
         for layer in layers:
             if not isinstance(layer, Layer):

@@ -4,7 +4,8 @@
   `EngineError` (exit 1);
 - input checks: `check_real`, `check_positive`, `check_choice`, `check_keys`, ... (module
   `checks`), each naming the parameter, its value and the valid range;
-- files: `atomic_path`, `atomic_h5`, `write_json`, `read_json`, `read_text`;
+- files: `atomic_path`, `atomic_h5`, `write_json`; the bounded readers `read_text`,
+  `read_toml`, `read_json` (size limit, text only, nesting limit);
 - `to_jsonable`: JSON without NaN or infinities; `provenance`: versions, platform, time;
 - `noise_sigma`: the robust white-noise estimate of a sampled signal.
 

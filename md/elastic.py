@@ -21,6 +21,7 @@ from filmscale.continuum.elasticity import (IsotropicAverage, stiffness_from_str
                                             voigt_reuss_hill)
 from filmscale.core.checks import check_real
 from filmscale.md.engine import EngineOptions, LammpsError, run_input
+from filmscale.md.lammps_input import write_input
 from filmscale.md.structures import Crystal
 from filmscale.md.units import to_si
 from filmscale.potentials import Potential
@@ -141,7 +142,7 @@ def elastic_constants(potential: Potential, crystal: Crystal, *, strain: float =
             ase_write(folder / "crystal.data", cell.repeat(repeat), format="lammps-data",
                       specorder=[crystal.element], masses=True, units="metal",
                       atom_style="atomic")
-            (folder / "in.elastic").write_text(text)
+            write_input(folder / "in.elastic", text)
             run_input("in.elastic", folder, engine, log_name="log.elastic")
         log = done.read_text()
     strains, stresses, edges = parse_states(log)

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import EngineError, InputError
+from filmscale.md.lammps_input import check_input
 
 
 class LammpsUnavailable(EngineError):
@@ -222,12 +223,15 @@ def run_input(input_file: Path | str, run_dir: Path | str, options: EngineOption
     """Run ``input_file`` with ``run_dir`` as the working directory; return the log text.
 
     ``progress(step)`` is called with the last thermo step seen in the log, about twice a
-    second. Raises `LammpsError` (the LAMMPS message and the run directory) when LAMMPS
-    stops with an error; a KeyboardInterrupt stops an ``mpirun`` child before it propagates.
+    second. Raises `InputError` before LAMMPS starts if the input holds anything filmscale
+    does not generate (`lammps_input.check_input`: no shell, Python or file inclusion), and
+    `LammpsError` (the LAMMPS message and the run directory) when LAMMPS stops with an
+    error; a KeyboardInterrupt stops an ``mpirun`` child before it propagates.
     """
     run_dir = Path(run_dir).resolve()
     input_file = Path(input_file)
     input_path = input_file if input_file.is_absolute() else run_dir / input_file
+    check_input(input_path.read_text(encoding="ascii", errors="replace"), input_path.name)
     log_path = run_dir / log_name
     follower = _LogFollower(log_path, progress) if progress is not None else None
     if follower is not None:

@@ -28,6 +28,7 @@ from filmscale.core.errors import InputError
 from filmscale.md.structures import Slab, SlabSpec, build_slab
 from filmscale.md.units import from_si, to_si
 from filmscale.potentials import Potential
+from filmscale.potentials.lammps_words import check_name, shown
 
 #: fix indent force constant, 100 eV/A^3 in N/m^2: an atom carrying 1 eV/A sits
 #: sqrt(F/K) = 0.1 A inside the nominal sphere. Measured on Cu(001) (docs/md-indentation.md,
@@ -167,11 +168,12 @@ class IndentProtocol:
             low = 0 if name == "restart_every" else 1
             if isinstance(value, bool) or not isinstance(value, int) or not \
                     low <= value <= 10**9:
-                raise InputError(f"protocol.{name} = {value!r} must be an integer in "
+                raise InputError(f"protocol.{name} = {shown(value)} must be an integer in "
                                  f"[{low}, 1e9]")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or \
                 not 0 <= self.seed < 2**63:
-            raise InputError(f"protocol.seed = {self.seed!r} must be an integer in [0, 2^63)")
+            raise InputError(f"protocol.seed = {shown(self.seed)} must be an integer in "
+                             "[0, 2^63)")
         for d in self.dump_depths:
             check_real("protocol.dump_depths", d, low=0.0, high=self.depth, unit="m")
 
@@ -236,9 +238,7 @@ class IndentSpec:
     slab_built: Slab | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
-        if not self.name or any(c in self.name for c in "/\\ \t\n"):
-            raise InputError(f"name = {self.name!r} must be a non-empty word (no spaces or "
-                             "slashes)")
+        check_name("name", self.name)      # a folder name and a word of the input's comment
         self.potential.pair_commands(self.slab.elements)   # unknown elements fail here
         if self.slab_built is None:
             object.__setattr__(self, "slab_built", build_slab(self.slab))

@@ -22,9 +22,10 @@ from filmscale.continuum.contact.hertz import elastic_impact, hertz_force
 from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.errors import InputError
-from filmscale.core.files import write_json
+from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.lammps_input import write_input
 from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, estimated_steps,
                                           input_text)
 from filmscale.md.particles import ParticleImpactSpec, ParticleIndentSpec
@@ -112,7 +113,7 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
     name = f"in.{spec.method}"
     text = input_text(spec, version)
     state_path = run_dir / STATE_FILE
-    state = json.loads(state_path.read_text()) if state_path.exists() else {}
+    state = read_json(state_path, "run state") if state_path.exists() else {}
     if state.get("finished") and (run_dir / name).exists() \
             and (run_dir / name).read_text() == text:
         return read_particles(spec, run_dir)
@@ -124,7 +125,7 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
                          f"directory (run directory {run_dir})")
     for old in [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / "finished.txt"]:
         old.unlink(missing_ok=True)
-    (run_dir / name).write_text(text)
+    write_input(run_dir / name, text)
     state = {"spec": spec_dict, "input": name, "finished": False,
              "engine": engine.to_dict()}
     write_json(state_path, state)

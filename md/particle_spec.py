@@ -38,14 +38,15 @@ from __future__ import annotations
 
 import copy
 import math
-import tomllib
 from pathlib import Path
 
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
+from filmscale.core.files import read_toml
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
+from filmscale.potentials.lammps_words import shown
 
 _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
 _R = 1e-6
@@ -151,12 +152,7 @@ def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImp
 def load_spec(path: Path | str, kind: str, method: str | None = None):
     """A spec from a TOML file; ``method`` overrides the file's."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise InputError(f"spec file {str(path)!r} does not exist") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"spec file {str(path)!r} is not valid TOML: {exc}") from None
+    data = read_toml(path, "spec file")     # bounded: size, text, nesting
     if method is not None:
         data["method"] = method
     return spec_from_mapping(data, kind)
@@ -165,7 +161,7 @@ def load_spec(path: Path | str, kind: str, method: str | None = None):
 def preset(name: str, kind: str, method: str | None = None):
     """A named preset (``ci``, ``quick``, ``research``) of ``kind`` (indent or impact)."""
     if name not in PRESETS[kind]:
-        raise InputError(f"preset = {name!r} is not one of {sorted(PRESETS[kind])}")
+        raise InputError(f"preset = {shown(name)} is not one of {sorted(PRESETS[kind])}")
     data = copy.deepcopy(PRESETS[kind][name])
     if method is not None:
         data["method"] = method

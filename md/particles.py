@@ -24,6 +24,7 @@ from filmscale.continuum.indentation.tips import Cone, Sphere, Tip, parse_tip
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
+from filmscale.potentials.lammps_words import check_name
 
 METHODS = ("tlsph", "peri")
 
@@ -244,6 +245,7 @@ class ParticleIndentSpec:
     grid: Grid
 
     def __post_init__(self):
+        check_name("name", self.name)      # a folder name and a word of the input's comment
         object.__setattr__(self, "tip", _tip(self.tip))
         object.__setattr__(self, "method", _check_method(self.method, self.target,
                                                                 self.grid))
@@ -276,6 +278,7 @@ class ParticleImpactSpec:
     frames: int = 6
 
     def __post_init__(self):
+        check_name("name", self.name)
         tip = _tip(self.tip)
         if not isinstance(tip, Sphere):
             raise InputError(f"tip = {tip.spec!r}: the impactor is a sphere")

@@ -23,11 +23,12 @@ from ase.io import write as ase_write
 from filmscale import __version__
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.core.errors import InputError
-from filmscale.core.files import write_json
+from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
                                       derive_seeds, indentation_input, resume_input)
+from filmscale.md.lammps_input import write_input
 from filmscale.md.units import to_si
 
 STATE_FILE = "state.json"
@@ -76,7 +77,7 @@ def _fresh(spec: IndentSpec, run_dir: Path) -> dict:
     ase_write(run_dir / DATA_FILE, spec.slab_built.atoms, format="lammps-data",
               specorder=list(spec.type_elements), masses=True, units="metal",
               atom_style="atomic")
-    (run_dir / "in.indent").write_text(indentation_input(spec, version=__version__))
+    write_input(run_dir / "in.indent", indentation_input(spec, version=__version__))
     write_json(run_dir / "spec.json", _spec_dict(spec))
     seeds = derive_seeds(spec.protocol.seed, ("velocity", "langevin"))
     return {"input": "in.indent", "record": "indent.dat", "start": 0, "seeds": seeds}
@@ -85,7 +86,7 @@ def _fresh(spec: IndentSpec, run_dir: Path) -> dict:
 def _resume_part(spec: IndentSpec, run_dir: Path, k: int, step: int, restart: Path) -> dict:
     z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
     name, record = f"in.resume.{k}", f"indent.{k}.dat"
-    (run_dir / name).write_text(resume_input(
+    write_input(run_dir / name, resume_input(
         spec, restart_file=restart.name, restart_step=step, z_surface=z_surface, part=k,
         record=record, version=__version__))
     return {"input": name, "record": record, "start": step, "restart": restart.name,
@@ -104,7 +105,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
     (run_dir / "dumps").mkdir(exist_ok=True)
     state_path = run_dir / STATE_FILE
     spec_dict = _spec_dict(spec)
-    state = json.loads(state_path.read_text()) if state_path.exists() else None
+    state = read_json(state_path, "run state") if state_path.exists() else None
     # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null)
     if state is not None and to_jsonable(state.get("spec")) != spec_dict:
         raise InputError("the run directory holds a run of a different spec; choose another "

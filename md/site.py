@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import os
 import shutil
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from filmscale.core.checks import check_keys, check_table
 from filmscale.core.errors import InputError
+from filmscale.core.files import read_toml
 
 #: the launchers filmscale knows by name; any other value is the path of one that takes
 #: ``-np N`` as mpirun does
@@ -74,12 +74,7 @@ def load_site() -> Site:
     path = site_file()
     if path is None:
         return Site()
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"cannot read the site file {path}: {err}") from None
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"site file {path} is not valid TOML: {err}") from None
+    data = read_toml(path, "site file")     # bounded: size, text, nesting
     where = f"{path}: engine"
     check_keys(str(path), data, {"engine"})
     engine = check_keys(where, check_table(where, data.get("engine", {})),

@@ -29,14 +29,15 @@ Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``res
 from __future__ import annotations
 
 import copy
-import tomllib
 from pathlib import Path
 
 from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
+from filmscale.core.files import read_toml
 from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
+from filmscale.potentials.lammps_words import check_element, shown
 from filmscale.potentials.registry import potential_from_mapping
 
 PRESETS: dict[str, dict] = {
@@ -80,13 +81,13 @@ PRESETS: dict[str, dict] = {
 
 def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
     table = check_keys(where, table, {"element", "structure", "a", "c", "thickness"})
-    element = required(where, table, "element")
+    element = check_element(f"{where}.element", required(where, table, "element"))
     required(where, table, "thickness")
     hint = potential.lattice.get(element)
     structure = table.get("structure", hint[0] if hint else None)
     a = table.get("a", hint[1] if hint else None)
     if structure is None or a is None:
-        raise InputError(f"{where}: give structure and a for {element!r}: potential "
+        raise InputError(f"{where}: give structure and a for {shown(element)}: potential "
                          f"{potential.name} has no lattice for it")
     return SlabLayer(Crystal(element, structure, a, table.get("c")), table["thickness"])
 
@@ -117,7 +118,7 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
         check_keys("indenter", indenter, {"half_angle", "tip_radius", "K", "height"})
         indenter = RigidIndenter.cone(**indenter)
     else:
-        raise InputError(f"indenter.shape = {shape!r} must be sphere or cone")
+        raise InputError(f"indenter.shape = {shown(shape)} must be sphere or cone")
     protocol = dict(check_table("protocol", data["protocol"]))
     check_keys("protocol", protocol, set(IndentProtocol.__dataclass_fields__))
     required("protocol", protocol, "depth")
@@ -131,19 +132,12 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
 def load_spec(path: Path | str) -> IndentSpec:
     """Read a spec file; relative potential files are found beside it."""
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise InputError(f"spec file {path}: {exc.strerror or exc}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"spec file {path}: {exc}") from None
+    data = read_toml(path, "spec file")     # bounded: size, text, nesting
     return spec_from_mapping(data, path.parent)
 
 
 def preset(name: str) -> IndentSpec:
     """The named preset's spec."""
     if name not in PRESETS:
-        raise InputError(f"preset = {name!r} is not one of {', '.join(PRESETS)}")
+        raise InputError(f"preset = {shown(name)} is not one of {', '.join(PRESETS)}")
     return spec_from_mapping(copy.deepcopy(PRESETS[name]))

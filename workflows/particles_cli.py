@@ -12,6 +12,7 @@ from pathlib import Path
 from filmscale.core.errors import InputError
 from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
+from filmscale.workflows.outputs import add_force_argument, check_run_folder
 
 
 def _spec(args):
@@ -25,15 +26,16 @@ def _spec(args):
 
 def cmd_particles(args) -> int:
     from filmscale.md.engine import EngineOptions
+    from filmscale.md.lammps_input import run_dir_for
     from filmscale.md.particle_inputs import estimated_steps
     from filmscale.md.particle_run import (analyze_impact, analyze_indent, run_particles,
                                            write_particle_record)
 
     spec = _spec(args)
     engine = EngineOptions(np=args.np, omp_threads=1)
-    out = Path(args.out) if args.out else Path("md_runs") / f"particles-{spec.name}"
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out} is a file, not a folder")
+    out = Path(args.out) if args.out else run_dir_for("md_runs", f"particles-{spec.name}")
+    check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
+                     args.force)
     total = estimated_steps(spec)
     if not args.json:
         print(f"{spec.name}: {spec.method}, {spec.grid.n_particles} particles, about {total} "
@@ -77,4 +79,5 @@ def add_commands(sub) -> None:
         q.add_argument("--out", metavar="DIR",
                        help="run directory (default md_runs/particles-NAME)")
         q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+        add_force_argument(q)
         q.set_defaults(func=cmd_particles, kind=kind)

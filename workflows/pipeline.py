@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
-from filmscale.workflows.plan import Plan, plan_scene
+from filmscale.workflows.plan import Plan, check_request, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
 from filmscale.workflows.units import (calibration_part, calibration_unit, done_record, finish_unit,
@@ -34,6 +34,7 @@ class SceneResult:
 
 def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> SceneResult:
     """Execute the plan: calibrations (MD units), then the impact evaluation; write ``out``."""
+    check_request(pipeline)
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)
     units = {}

@@ -6,6 +6,28 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from filmscale.core.errors import InputError
+
+from .outputs import (REPORT, add_force_argument, check_outputs, hdf5_kind, json_kind,
+                      output_path, plot_path, scene_files)
+
+
+def _store_folder(store) -> Path:
+    """``--store``: a folder, or nothing yet."""
+    store = Path(store)
+    if store.exists() and not store.is_dir():
+        raise InputError(f"--store {store} is a file, not a folder")
+    return store
+
+
+def _scene_result_kind():
+    from .result import RESULT_FORMAT
+    return hdf5_kind(RESULT_FORMAT, "a scene result")
+
+
+#: the index of a sweep's scenes that `sweep run` writes
+SWEEP_INDEX = json_kind({"sweep", "scenes"}, "a sweep index")
+
 
 def cmd_plan(args) -> int:
     from .plan import plan_scene
@@ -19,8 +41,14 @@ def cmd_run(args) -> int:
     from .scene import load_pipeline
     scene = Path(args.scene)
     pipeline = load_pipeline(scene)             # every input checked before any run
-    out = Path(args.out) if args.out else Path("results") / f"{scene.stem}.h5"
-    result = run_scene(pipeline, Path(args.store), out)
+    out = output_path("--out", args.out or Path("results") / f"{scene.stem}.h5")
+    store = _store_folder(args.store)
+    check_outputs([("the input scene", scene),
+                   *scene_files(pipeline.base, pipeline.data, pipeline.calibrations)],
+                  [("--out", out, _scene_result_kind()),
+                   ("--report", out.with_suffix(".html") if args.report else None, REPORT)],
+                  args.force)
+    result = run_scene(pipeline, store, out)
     ran = sum(v == "ran" for v in result.units.values())
     print(f"filmscale: {ran} unit(s) ran, {len(result.units) - ran} reused; result {result.path}",
           file=sys.stderr)
@@ -31,11 +59,36 @@ def cmd_run(args) -> int:
     return 0
 
 
+def _sweep_inputs(sweep: Path, scenes) -> list[tuple[str, Path]]:
+    """The sweep file, its base scene and the files the scenes read."""
+    import tomllib
+
+    from filmscale.core.files import read_text
+    base = Path(sweep).parent / str(tomllib.loads(read_text(sweep, "sweep"))["base"])
+    files = [("the sweep file", Path(sweep)), ("the sweep's base scene", base)]
+    for s in scenes:
+        files += [f for f in scene_files(s.scene.base, s.scene.data, s.scene.calibrations)
+                  if f not in files]
+    return files
+
+
+def _check_sweep_outputs(sweep: Path, name: str, scenes, out_dir: Path,
+                         index_name: str | None, force: bool) -> None:
+    """Each scene's result and the index in ``--out-dir``: neither an input nor a file of
+    another kind (`check_outputs`), before any scene runs."""
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"--out-dir {out_dir} is a file, not a folder")
+    check_outputs(_sweep_inputs(sweep, scenes),
+                  [("--out-dir", out_dir / f"{s.name}.h5", _scene_result_kind())
+                   for s in scenes]
+                  + [("--out-dir", out_dir / (index_name or f"{name}.json"), SWEEP_INDEX)],
+                  force)
+
+
 def cmd_sweep(args) -> int:
-    from filmscale.core.errors import InputError
     from filmscale.core.jsonable import dumps
 
-    from .plan import plan_scene
+    from .plan import check_request, plan_scene
     from .sweep import default_jobs, load_sweep, run_sweep
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         raise InputError(f"--jobs = {args.jobs} must be at least 1")
@@ -43,11 +96,16 @@ def cmd_sweep(args) -> int:
         from .slurm import check_unit_minutes
         check_unit_minutes(args.time)
     name, scenes = load_sweep(args.sweep)        # every scene checked before any run
+    if args.sweep_command != "plan":
+        for s in scenes:
+            check_request(s.scene)
+        _store_folder(args.store)
     if args.sweep_command == "run-unit":
         return _run_sweep_unit(args, scenes)
     out_dir = Path(args.out_dir) if getattr(args, "out_dir", None) else Path("results") / name
     if args.sweep_command == "submit":
         from .slurm import submit_sweep
+        _check_sweep_outputs(Path(args.sweep), name, scenes, out_dir, None, False)
         jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
                             Path(args.store).resolve(), out_dir.resolve(), args.partition,
                             args.time)
@@ -69,6 +127,7 @@ def cmd_sweep(args) -> int:
                              f"{len(scenes) - 1}]")
         scenes = [scenes[args.only]]
         index_name = f"{scenes[0].name}.json"
+    _check_sweep_outputs(Path(args.sweep), name, scenes, out_dir, index_name, args.force)
     index, entries = run_sweep(name, scenes, Path(args.store), out_dir, args.jobs,
                                say=lambda m: print(f"filmscale: {m}", file=sys.stderr),
                                index_name=index_name)
@@ -83,8 +142,6 @@ def cmd_sweep(args) -> int:
 
 def _run_sweep_unit(args, scenes) -> int:
     """One run unit of a sweep (what a SLURM task of `sweep submit` runs)."""
-    from filmscale.core.errors import InputError
-
     from .slurm import run_units
     from .units import run_unit
     units = run_units(scenes, Path(args.store))
@@ -112,7 +169,6 @@ def cmd_status(args) -> int:
     from .units import unit_states
     store = Path(args.store)
     if not store.is_dir():
-        from filmscale.core.errors import InputError
         raise InputError(f"store {store} is not a folder")
     rows = unit_states(store)
     jobs = read_jobs(store).get("units", {})
@@ -138,10 +194,17 @@ def cmd_status(args) -> int:
 
 
 def cmd_report(args) -> int:
-    from .report import write_figure, write_report
-    print(write_report(args.result, args.out))
-    if args.figure:
-        print(write_figure(args.result, args.figure))
+    from .outputs import image_kind
+    from .report import check_result, write_figure, write_report
+    result = check_result(args.result)
+    out = output_path("--out", args.out or result.with_suffix(".html"))
+    figure = plot_path("--figure", args.figure)
+    check_outputs([("the input result", result)],
+                  [("--out", out, REPORT), ("--figure", figure, image_kind(figure))],
+                  args.force)
+    print(write_report(result, out))
+    if figure:
+        print(write_figure(result, figure))
     return 0
 
 
@@ -169,6 +232,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", metavar="RESULT.h5",
                    help="result file (default results/SCENE.h5)")
     p.add_argument("--report", action="store_true", help="also write the HTML report")
+    add_force_argument(p)
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("sweep", help="many scenes from one base scene and its overrides",
@@ -185,6 +249,7 @@ def add_commands(sub) -> None:
                    help="scenes at once (default: the usable CPUs over the largest np)")
     q.add_argument("--only", type=int, metavar="K",
                    help="run scene K only (0-based), its index as OUT/SCENE.json")
+    add_force_argument(q)
     q = _sweep_parser(ssub, "submit", "submit the sweep to SLURM: its run units as one array "
                                       "job, then its scenes after them")
     _store_argument(q, "folder of the hash-named run units, shared by every task")
@@ -216,4 +281,5 @@ def add_commands(sub) -> None:
     p.add_argument("--out", metavar="REPORT.html", help="default: RESULT with .html")
     p.add_argument("--figure", metavar="FIGURE.png",
                    help="also a one-line PNG summary: calibration, profile, map")
+    add_force_argument(p)
     p.set_defaults(func=cmd_report)

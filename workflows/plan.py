@@ -144,14 +144,29 @@ def _timed(fn):
     return value, time.perf_counter() - start
 
 
-def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
-                angle: float = 0.0) -> Plan:
-    """Rules 2-5 on a complete scene."""
+def _check_direction(outputs, friction: float, angle: float) -> None:
+    """Rule 2's refusal."""
     if friction >= FRICTION_LIMIT or angle > 0 or "tangential" in outputs:
         raise InputError(
             f"impactor.friction = {friction:g}, impactor.angle = {angle:g} deg, outputs "
             f"{sorted(outputs)}: filmscale models normal impact only (friction below "
             f"{FRICTION_LIMIT}, angle 0, no tangential output); an oblique model is not built")
+
+
+def check_request(pipeline: PipelineScene) -> None:
+    """What the impact rules refuse whatever the calibrations find: an oblique or tangential
+    request (rule 2) and a map without valid axes. `plan` and `run` check it before any
+    unit runs, so that a run never stops there after its MD runs."""
+    _check_direction(pipeline.outputs, pipeline.friction, pipeline.angle)
+    if "map" in pipeline.outputs:
+        placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in pipeline.calibrations}
+        pipeline.completed(placeholder).map.axes()
+
+
+def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
+                angle: float = 0.0) -> Plan:
+    """Rules 2-5 on a complete scene."""
+    _check_direction(outputs, friction, angle)
     steps = [Step("direction", "normal impact",
                   f"friction {friction:g} < {FRICTION_LIMIT}, normal approach, no tangential "
                   "output (rule 2)", "tangential traction neglected", 0.0)]
@@ -232,6 +247,7 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
             steps.append(_joint_step(sources[0].name, sources))
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
     if missing:
+        check_request(pipeline)
         steps.append(Step("impact", "chosen after calibration",
                           "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
         return Plan(tuple(steps))

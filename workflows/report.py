@@ -8,6 +8,7 @@ import base64
 import html
 import io
 import json
+from contextlib import contextmanager
 from pathlib import Path
 
 import h5py
@@ -28,13 +29,30 @@ def _png(fig) -> str:
     return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
 
 
+def check_result(result) -> Path:
+    """``result`` if it is a scene result; InputError naming what it is otherwise."""
+    from .outputs import describe, hdf5_format
+    result = Path(result)
+    if not result.is_file():
+        raise InputError(f"result {result} does not exist" if not result.exists() else
+                         f"result {result} is a folder, not a file")
+    if hdf5_format(result) != RESULT_FORMAT:
+        raise InputError(f"{result} is {describe(result)}; report expects a scene result "
+                         f"(format {RESULT_FORMAT}, the RESULT.h5 of filmscale run)")
+    return result
+
+
+@contextmanager
 def _result_file(result: Path):
-    f = h5py.File(result, "r")
-    if f.attrs.get("format") != RESULT_FORMAT:
-        f.close()
-        raise InputError(f"{result} is not a scene result (format "
-                         f"{f.attrs.get('format')!r}, expected {RESULT_FORMAT!r})")
-    return f
+    """The open scene result; a dataset or attribute missing from it, or one that cannot be
+    read, is an InputError naming the file (a damaged or truncated result)."""
+    with h5py.File(check_result(result), "r") as f:
+        try:
+            yield f
+        except (KeyError, OSError, json.JSONDecodeError) as err:
+            detail = err.args[0] if isinstance(err, KeyError) and err.args else err
+            raise InputError(f"scene result {result} is damaged or incomplete: {detail}") \
+                from None
 
 
 def _checks(group) -> list[CrossCheck]:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import copy
 import functools
 import math
-import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -25,12 +24,14 @@ from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
 from filmscale.continuum.contact.restitution import UNLOADING_MODELS
 from filmscale.continuum.indentation.io import read_table
+from filmscale.continuum.indentation.oliver_pharr import check_curve_modulus
 from filmscale.continuum.indentation.tips import parse_tip
 from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
-                                   VELOCITY_RANGE, check_choice, check_keys, check_positive,
-                                   check_real, required)
+                                   VELOCITY_RANGE, check_choice, check_density, check_keys,
+                                   check_modulus, check_positive, check_real,
+                                   check_yield_strength, required)
 from filmscale.core.errors import InputError
-from filmscale.core.files import read_text
+from filmscale.core.files import parse_toml, read_text
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -52,13 +53,17 @@ def _h_star(where: str, table: dict) -> float:
 
 
 def _material(where: str, table: dict, require_yield: bool = True) -> ElasticPlastic:
+    """A material table, checked: ranges, then plausibility (E of a real solid, sigma_y
+    below E; the messages name the key and the likely unit slip)."""
     check_keys(where, table, _MATERIAL_KEYS)
     E = check_real(f"{where}.E", required(where, table, "E"), low=0.0, low_open=True,
                    high=MODULUS_MAX, unit="Pa")
+    check_modulus(f"{where}.E", E, "Young's modulus")
     nu = check_real(f"{where}.nu", required(where, table, "nu"), low=-1.0, high=0.5,
                     low_open=True, high_open=True)
     if require_yield:
         sigma_y = check_positive(f"{where}.sigma_y", required(where, table, "sigma_y"), "Pa")
+        check_yield_strength(f"{where}.sigma_y", sigma_y, E, f"{where}.E")
     else:
         sigma_y = math.inf
     n = check_real(f"{where}.n", table.get("n", 0.0), low=0.0, high=1.0, high_open=True)
@@ -178,16 +183,9 @@ def _numbers(where: str, value) -> np.ndarray:
     return np.array([check_real(f"{where}[{i}]", v) for i, v in enumerate(value)])
 
 
-def read_toml(text: str, source: str) -> dict:
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"scene {source} is not valid TOML: {err}") from None
-
-
 def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
     """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
-    return scene_from_data(read_toml(text, source), text, source, base)
+    return scene_from_data(parse_toml(text, "scene", source), text, source, base)
 
 
 def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
@@ -214,6 +212,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         radius=ranged("radius", RADIUS_RANGE, "m"), mass=ranged("mass", MASS_RANGE, "kg"),
         velocity=ranged("velocity", VELOCITY_RANGE, "m/s"),
         material=imp_material, name=str(imp.get("name", "impactor")))
+    check_density(impactor.radius, impactor.mass, "impactor.radius", "impactor.mass")
 
     target = check_keys("target", required("scene", data, "target"), _SECTIONS["target"])
     raw_sub = check_keys("target.substrate", required("target", target, "substrate"),
@@ -263,6 +262,9 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
         radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
         spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
+    if map_spec.radius is not None:     # the map's largest sphere carries the scene's mass
+        check_density(max(map_spec.radius[:2]), impactor.mass, "map.radius maximum",
+                      "impactor.mass")
     return Scene(impactor=impactor, stack=stack, law=law, unloading=unloading, path=path,
                  rtol=rtol, profile=profile, h_star=tuple(h_star) if any(h_star) else (),
                  map=map_spec, title=str(data.get("title", "")),
@@ -385,7 +387,7 @@ class CalibrationSource:
                                          f"{key!r} of {name} names no indenter; give tip "
                                          "(e.g. \"sphere:5um\" or \"berkovich\")")
                     c = replace(c, indenter=self.tip)
-                out.append(c)
+                out.append(check_curve_modulus(c))
         return out
 
 
@@ -492,7 +494,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
                    ) -> PipelineScene:
     """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
     base = Path(".") if base is None else base
-    data = read_toml(text, source)
+    data = parse_toml(text, "scene", source)
     outputs = data.pop("outputs", {})
     if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
         raise InputError("[outputs] takes want (a list) and tolerance; got "

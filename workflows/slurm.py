@@ -15,7 +15,6 @@ answers with ``scontrol requeue`` of its own task, at most `MAX_REQUEUES` times.
 
 from __future__ import annotations
 
-import json
 import math
 import shutil
 import subprocess
@@ -23,7 +22,7 @@ import sys
 from pathlib import Path
 
 from filmscale.core.errors import EngineError, InputError
-from filmscale.core.files import write_json
+from filmscale.core.files import read_json, write_json
 from filmscale.workflows.plan import md_cost_s
 from filmscale.workflows.sweep import SweepScene
 from filmscale.workflows.units import check_unit, run_unit_path
@@ -162,8 +161,18 @@ def submit_sweep(sweep_file: Path, name: str, scenes: list[SweepScene], store: P
 
 
 def read_jobs(store: Path) -> dict:
+    """The jobs `submit_sweep` recorded in the store ({} when none); InputError when the
+    file is damaged."""
     path = Path(store) / "jobs.json"
-    return json.loads(path.read_text()) if path.exists() else {}
+    if not path.exists():
+        return {}
+    jobs = read_json(path, "jobs file")
+    if not isinstance(jobs, dict) or not all(
+            isinstance(jobs.get(key), dict) and all(isinstance(j, str) for j in jobs[key].values())
+            for key in ("units", "scenes")):
+        raise InputError(f"jobs file {path} is damaged: it lacks the job ids of the units and "
+                         "scenes that filmscale sweep submit records")
+    return jobs
 
 
 def queue_states(job_ids) -> dict[str, str]:

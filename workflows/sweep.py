@@ -19,7 +19,6 @@ from __future__ import annotations
 import copy
 import itertools
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,7 +26,7 @@ import tomli_w
 
 from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
-from filmscale.core.files import read_text
+from filmscale.core.files import parse_toml, read_text, read_toml
 from filmscale.workflows.scene import PipelineScene, parse_pipeline
 
 #: more scenes than this from one sweep file is taken for a mistake
@@ -82,17 +81,10 @@ def expand(data: dict, where: str = "sweep") -> list[dict]:
 
 def parse_sweep(text: str, source: str, base_dir: Path) -> tuple[str, list[SweepScene]]:
     """(the sweep's name, its scenes, each checked), from the sweep file's text."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"sweep {source} is not valid TOML: {err}") from None
+    data = parse_toml(text, "sweep", source)
     scene_path = base_dir / str(required("sweep", data, "base"))
     name = str(data.get("name", Path(source).stem))
-    base_text = read_text(scene_path, "base scene")
-    try:
-        base = tomllib.loads(base_text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"base scene {scene_path} is not valid TOML: {err}") from None
+    base = read_toml(scene_path, "base scene")
     scenes = []
     for i, overrides in enumerate(expand(data, f"sweep {source}")):
         scene_data = copy.deepcopy(base)

@@ -106,7 +106,7 @@ def check_unit(path: Path) -> tuple[dict | None, str]:
         for name, digest in sums["files"].items():
             if not (path / name).is_file() or _file_digest(path / name) != digest:
                 return None, f"{name} is missing or changed"
-    except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
         return None, f"its record cannot be read: {exc}"
     return record, ""
 

@@ -108,8 +108,8 @@ def sphere_part(label: str, cal: Calibration, curves, law: str | ContactLaw,
         """The law's force with the layer's reduced modulus E_star and strength sigma (arrays
         over h), or what a film of them on the substrate presents there."""
         if w is None:
-            return law.contact(h, r, E_star, sigma, nu).force
-        return law.contact(h, r, *target.felt(E_star, sigma, w)).force
+            return law.unchecked_contact(h, r, E_star, sigma, nu).force
+        return law.unchecked_contact(h, r, *target.felt(E_star, sigma, w)).force
 
     E_own, s_own = e_star(cal.E.value), cal.sigma_y.value
 

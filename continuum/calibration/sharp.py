@@ -10,7 +10,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
+from filmscale.continuum.indentation.oliver_pharr import oliver_pharr, refuse_implausible
 from filmscale.continuum.indentation.reverse import dao_reverse_repeated
 from filmscale.continuum.indentation.reverse.dao import dao_forward, dao_reverse
 from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
@@ -28,6 +28,7 @@ def sharp_inputs(curve: LoadDisplacementCurve, tip="berkovich"):
     op = oliver_pharr(curve, tip)
     if not op.ok:
         raise InputError(f"curve {curve.meta.get('source', '')!r}: {op.message}")
+    refuse_implausible(curve, op.flags)     # a unit slip, before the reverse analysis
     h, P = loading_points(curve)
     m = h >= 0.5 * op.h_max
     x = h[m]**2

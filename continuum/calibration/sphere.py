@@ -30,6 +30,7 @@ from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.oliver_pharr import check_curve_modulus
 from filmscale.continuum.indentation.spherical import check_tip_shape, hertz_fit, loading_points
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.materials import ElasticPlastic
@@ -119,7 +120,9 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     data = []
     for c, r in zip(curves, radii):
         h, P, pop = loading_points(c, with_pop_in=True)
-        data.append((h, P, sphere_radius(c, r), float(P.max()), pop))
+        radius = sphere_radius(c, r)
+        check_curve_modulus(c, R=radius)      # a unit slip, before any fit
+        data.append((h, P, radius, float(P.max()), pop))
     target = SphereTarget(nu, indenter, thickness, substrate)
     sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
     common = dict(layer=layer, nu=nu, n=Parameter(

@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from filmscale.continuum.contact.hertz import hertz_force
+from filmscale.continuum.contact.hertz import _hertz_force
 from filmscale.continuum.contact.laws import ContactLaw
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.continuum.materials import (ElasticPlastic, Layer, LayerStack,
@@ -123,7 +123,7 @@ class SphereTarget:
         """Hertz's force (N) with the reduced modulus felt at each approach (Johnson 1985):
         the elastic loading before a pop-in."""
         # the reduced modulus does not depend on sigma_y: any finite value serves
-        return hertz_force(delta, R, self.properties(delta, R, E_star, 1.0, False)[0])
+        return _hertz_force(delta, R, self.properties(delta, R, E_star, 1.0, False)[0])
 
     def describe(self) -> str:
         tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"

@@ -33,9 +33,11 @@ from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, STATUS_MESS
                                                  UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE,
                                                  ImpactHistory, ImpactMaxima, ImpactResult,
                                                  exceeds_radius_message)
-from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
-from filmscale.core.checks import (MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_choice,
-                                   check_positive_array, check_real)
+from filmscale.continuum.materials import ElasticPlastic, check_plausible, reduced_modulus
+from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
+                                   YIELD_STRAIN_HIGH, check_broadcast, check_choice,
+                                   check_density, check_positive_array, check_real,
+                                   sphere_density)
 from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError, ModelRangeError
 
@@ -82,6 +84,13 @@ class ImpactModel:
             raise InputError(f"quadrature_nodes = {self.quadrature_nodes!r} must be an integer "
                              f"in [4, 64]")
         object.__setattr__(self, "target", profile_for(self.target))
+        for material in self.target.materials():
+            check_plausible(material, material.name or "target")
+        if self.impactor is not None:
+            if not isinstance(self.impactor, ElasticPlastic):
+                raise InputError(f"impactor must be an ElasticPlastic material or None "
+                                 f"(rigid), got {type(self.impactor).__name__}")
+            check_plausible(self.impactor, self.impactor.name or "impactor")
         if not isinstance(self.law, ContactLaw):
             raise InputError(f"law must be a ContactLaw, got {type(self.law).__name__}")
         check_choice("unloading", self.unloading, ("auto",) + UNLOADING_MODELS)
@@ -112,13 +121,19 @@ class ImpactModel:
         return self._force_area(delta, R, branch)[0]
 
     def warnings(self) -> tuple[str, ...]:
-        """What the model leaves out for this target."""
-        hardening = [f"{mat.name or 'material'} n={mat.n:g}" for mat in self.target.materials()
-                     if mat.n > 0]
-        if not hardening:
-            return ()
-        return (f"hardening exponents ({', '.join(hardening)}) are ignored: the contact laws "
-                f"are elastic-perfectly plastic",)
+        """What the model leaves out for this target, and strengths few solids reach."""
+        materials = self.target.materials()
+        hardening = [f"{mat.name or 'material'} n={mat.n:g}" for mat in materials if mat.n > 0]
+        strong = [f"{mat.name or 'material'} sigma_y/E={mat.sigma_y / mat.E:.2g}"
+                  for mat in materials if mat.sigma_y > YIELD_STRAIN_HIGH * mat.E]
+        out = ()
+        if hardening:
+            out += (f"hardening exponents ({', '.join(hardening)}) are ignored: the contact "
+                    f"laws are elastic-perfectly plastic",)
+        if strong:
+            out += (f"yield strains above {YIELD_STRAIN_HIGH:g} ({', '.join(strong)}): only "
+                    f"whiskers and nanopillars come near; check the units of sigma_y",)
+        return out
 
     def _geometry_warnings(self, contact_radius, R) -> tuple[str, ...]:
         """A contact radius above R (Kogut-Etsion's A = 2 pi R w, Jackson-Green's area fit far
@@ -619,11 +634,16 @@ class ImpactModel:
 
 
 def _impact_inputs(velocity, radius, mass):
-    """Checked, broadcast float arrays (V, R, m) within their valid ranges."""
-    return np.broadcast_arrays(
-        check_positive_array("velocity", velocity, "m/s", *VELOCITY_RANGE),
-        check_positive_array("radius", radius, "m", *RADIUS_RANGE),
-        check_positive_array("mass", mass, "kg", *MASS_RANGE))
+    """Checked, broadcast float arrays (V, R, m) within their valid ranges, each (R, m) of a
+    plausible mean density (`check_density`)."""
+    V, R, m = check_broadcast(
+        velocity=check_positive_array("velocity", velocity, "m/s", *VELOCITY_RANGE),
+        radius=check_positive_array("radius", radius, "m", *RADIUS_RANGE),
+        mass=check_positive_array("mass", mass, "kg", *MASS_RANGE))
+    light = sphere_density(R, m) < DENSITY_MIN
+    if np.any(light):
+        check_density(float(R[light].flat[0]), float(m[light].flat[0]))
+    return V, R, m
 
 
 def _unloading_case(elastic, unl: Unloading):

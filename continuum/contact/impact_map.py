@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from filmscale.continuum.contact.results import EXCEEDS_RADIUS
-from filmscale.core.checks import check_choice, check_positive, check_real
+from filmscale.core.checks import check_choice, check_float_array, check_positive, check_real
 from filmscale.core.errors import InputError
 
 from .impact import ImpactMaxima, ImpactModel
@@ -78,10 +78,11 @@ def impact_map(model: ImpactModel, velocity, radius, mass, progress=None) -> Imp
 
     ``progress(done, total)`` is passed on to `ImpactModel.maxima`.
     """
-    velocity = np.atleast_1d(np.asarray(velocity, dtype=float))
-    radius = np.atleast_1d(np.asarray(radius, dtype=float))
+    velocity = np.atleast_1d(check_float_array("velocity", velocity))
+    radius = np.atleast_1d(check_float_array("radius", radius))
     if velocity.ndim != 1 or radius.ndim != 1:
-        raise InputError("impact map axes must be 1-D arrays of velocity and radius")
+        raise InputError(f"impact map axes must be 1-D arrays of velocity and radius, got "
+                         f"shapes {velocity.shape} and {radius.shape}")
     if velocity.size * radius.size > MAX_MAP_POINTS:
         raise InputError(f"impact map of {velocity.size} x {radius.size} points exceeds "
                          f"{MAX_MAP_POINTS} points: use fewer velocities or radii")

@@ -27,8 +27,8 @@ import numpy as np
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
 
-from .hertz import first_yield as _hertz_first_yield
-from .hertz import hertz_force, yield_pressure_factor
+from .hertz import _first_yield as _hertz_first_yield
+from .hertz import _hertz_force, _pressure_factor, checked
 from .quadrature import integrate
 
 
@@ -99,7 +99,14 @@ class ContactLaw:
         return np.searchsorted(np.asarray(self.thresholds), severity, side="right")
 
     def contact(self, delta, R, E_star, sigma_y, nu) -> ContactState:
-        """Contact state under monotone loading of a homogeneous target."""
+        """Contact state under monotone loading of a homogeneous target: approach delta (m),
+        sphere radius R (m), E* and sigma_y (Pa; inf: never yields), Poisson ratio nu."""
+        return self.unchecked_contact(*checked(delta=delta, R=R, E_star=E_star,
+                                               sigma_y=sigma_y, nu=nu))
+
+    def unchecked_contact(self, delta, R, E_star, sigma_y, nu) -> ContactState:
+        """`contact` without its input checks: for fits that evaluate it many times with
+        trial values (a NaN there is the fit's to handle)."""
         delta = np.asarray(delta, dtype=float)
         branch = self.branch_of(self.severity(delta, R, E_star, sigma_y, nu))
         force, area = self.force_area(delta, R, E_star, sigma_y, nu, branch)
@@ -110,8 +117,11 @@ class ContactLaw:
 
         Yield is the law's first threshold. The work is the integral of the elastic branch
         (Gauss-Legendre in sqrt(delta): exact for a Hertz force); the velocity is
-        sqrt(2 W / m).
+        sqrt(2 W / m). R in m, E* and sigma_y in Pa, mass in kg.
         """
+        R, E_star, sigma_y, nu = checked(R=R, E_star=E_star, sigma_y=sigma_y, nu=nu)
+        if mass is not None:
+            mass = checked(m=mass)[0]
         approach = self.approach_at_severity(self.thresholds[0], R, E_star, sigma_y, nu)
         force, area = self.force_area(approach, R, E_star, sigma_y, nu, 0)
         args = [np.asarray(v, dtype=float)[..., None] for v in (R, E_star, sigma_y, nu)]
@@ -149,13 +159,13 @@ def _hertz_or_plastic(branch, first_plastic, plastic, delta, R, E_star):
     """(P, A): Hertz on branches below ``first_plastic``, plastic() from it on; a scalar
     branch evaluates one of them only."""
     if np.ndim(branch) == 0 and branch < first_plastic:
-        return hertz_force(delta, R, E_star), _hertz_area(delta, R)
+        return _hertz_force(delta, R, E_star), _hertz_area(delta, R)
     if np.ndim(branch) == 0:
         return plastic()
     selected = np.asarray(branch) >= first_plastic
     with np.errstate(all="ignore"):     # the plastic formula also runs on elastic points
         f_p, a_p = plastic()
-    return (np.where(selected, f_p, hertz_force(delta, R, E_star)),
+    return (np.where(selected, f_p, _hertz_force(delta, R, E_star)),
             np.where(selected, a_p, _hertz_area(delta, R)))
 
 
@@ -180,7 +190,7 @@ class Hertz(ContactLaw):
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
-        return hertz_force(delta, R, E_star), _hertz_area(delta, R)
+        return _hertz_force(delta, R, E_star), _hertz_area(delta, R)
 
 
 # --- Komvopoulos & Ye 2001 ----------------------------------------------------------------------
@@ -311,7 +321,7 @@ class KogutEtsion(ContactLaw):
         w_c, p_c = self._critical(R, E_star, sigma_y, nu)
         ws = self._clamped(delta / w_c, branch)
         a_c = np.pi * R * w_c
-        force = _by_branch(branch, lambda: hertz_force(delta, R, E_star),
+        force = _by_branch(branch, lambda: _hertz_force(delta, R, E_star),
                            lambda: 1.03 * p_c * ws**1.425, lambda: 1.40 * p_c * ws**1.263,
                            lambda: 2.0 * np.pi * R * ws * w_c * self.hardness_factor * sigma_y)
         area = _by_branch(branch, lambda: _hertz_area(delta, R),
@@ -338,7 +348,7 @@ class JacksonGreen(ContactLaw):
     default_unloading = "jackson-chusoipin-green"
 
     def _critical(self, R, E_star, sigma_y, nu):
-        c_sy = yield_pressure_factor(nu) * sigma_y
+        c_sy = _pressure_factor(nu) * sigma_y
         w_c = np.square(np.pi * c_sy / (2.0 * E_star)) * R
         p_c = (np.pi**3 / 6.0) * c_sy**3 * np.square(R) / np.square(E_star)
         return w_c, p_c, c_sy
@@ -395,7 +405,7 @@ class Thornton(ContactLaw):
 
         def plastic():
             d_eff = np.maximum(delta, d_y)
-            force = (hertz_force(d_y, R, E_star)
+            force = (_hertz_force(d_y, R, E_star)
                      + np.pi * self.limiting_pressure_factor * sigma_y * R * (d_eff - d_y))
             return force, _hertz_area(d_eff, R)
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, LayerStack
-from filmscale.core.checks import check_positive, check_real
+from filmscale.core.checks import check_indent_depths, check_modulus, check_positive, check_real
 from filmscale.core.errors import InputError
 
 _X_MAX = 1e15   # I0(x), I1(x) equal 1 to double precision well before this
@@ -236,6 +236,15 @@ class TableProfile(DepthProfile):
             if bad.any():
                 raise InputError(f"profile table {name} has {values[bad][0]!r} at row "
                                  f"{int(np.argmax(bad))}: values must be finite and > 0")
+        check_indent_depths("profile table h_c", h_c)
+        for row in (int(np.argmin(E_r)), int(np.argmax(E_r))):
+            check_modulus(f"profile table E_r[{row}]", E_r[row], "reduced modulus")
+        hard = H >= E_r
+        if hard.any():
+            row = int(np.argmax(hard))
+            raise InputError(f"profile table H = {H[row]:.4g} Pa at row {row} is not below "
+                             f"E_r = {E_r[row]:.4g} Pa: no solid is harder than its modulus "
+                             f"(H/E_r stays below about 0.2); check the units of H")
         nu = check_real("profile nu", nu, low=-1.0, high=0.5, low_open=True, high_open=True)
         hardness_factor = check_positive("hardness_factor", hardness_factor)
         e_p = 1.0 / E_r if indenter is None else 1.0 / E_r - indenter.compliance

@@ -25,7 +25,7 @@ import numpy as np
 
 from filmscale.core.checks import check_choice
 
-from .hertz import hertz_force
+from .hertz import _hertz_force, checked
 
 UNLOADING_MODELS = ("crater", "jackson-chusoipin-green", "brake")
 
@@ -62,7 +62,7 @@ def unload(model: str, *, delta_max, force_max, area_max, E_star, R, yield_appro
             ratio = np.maximum(delta_max / yield_approach, 1.0)
             residual = 1.02 * delta_max * (1.0 - ((ratio + 5.9) / 6.9) ** -0.54)
         else:
-            residual = delta_max * (1.0 - force_max / hertz_force(delta_max, R, E_star))
+            residual = delta_max * (1.0 - force_max / _hertz_force(delta_max, R, E_star))
         recovery = delta_max - residual
         with np.errstate(divide="ignore", invalid="ignore"):    # recovery <= 0: caller flags it
             radius = np.square(3.0 * force_max / (4.0 * E_star) / recovery**1.5)
@@ -77,7 +77,8 @@ def thornton_restitution(V, V_y):
     (x / (x + 2 sqrt(6/5 - x^2/5)))^(1/4); e = 1 for V <= V_y. V_y is the velocity at which
     p0 reaches the limiting pressure p_y: V_y^2 = (pi^5/30) p_y^5 R^3 / (E*^4 m).
     """
-    x = np.minimum(np.asarray(V_y, dtype=float) / np.asarray(V, dtype=float), 1.0)
+    V, V_y = checked(V=V, V_y=V_y)
+    x = np.minimum(V_y / V, 1.0)
     e = (np.sqrt(6.0 * np.sqrt(3.0) / 5.0) * np.sqrt(1.0 - x**2 / 6.0)
          * (x / (x + 2.0 * np.sqrt(1.2 - x**2 / 5.0))) ** 0.25)
     return np.where(x >= 1.0, 1.0, e)
@@ -86,6 +87,9 @@ def thornton_restitution(V, V_y):
 def johnson_restitution(m, R, V, E_star, dynamic_pressure):
     """Fully plastic loading at constant pressure p_d with Hertz rebound (Johnson 1985
     section 11.5) [D]: (1/2) m V^2 = pi p_d a^4 / (4R), e^2 = (6 pi / 5) p_d R / (E* a).
-    Meaningful only for V much larger than 30 V_Y."""
+    Meaningful only for V much larger than 30 V_Y. m in kg, R in m, V in m/s, E* and p_d in
+    Pa."""
+    m, R, V, E_star, dynamic_pressure = checked(m=m, R=R, V=V, E_star=E_star,
+                                                p_d=dynamic_pressure)
     a = np.power(2.0 * m * np.square(V) * R / (np.pi * dynamic_pressure), 0.25)
     return np.sqrt(1.2 * np.pi * dynamic_pressure * R / (E_star * a))

@@ -22,7 +22,8 @@ import numpy as np
 from scipy.ndimage import convolve1d
 from scipy.signal import savgol_coeffs
 
-from filmscale.core.checks import check_float_array, check_positive, check_real
+from filmscale.core.checks import (MODULUS_PLAUSIBLE, SLIP_UNITS, check_float_array,
+                                   check_positive, check_real)
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
 
@@ -421,6 +422,47 @@ def check_curve(curve: LoadDisplacementCurve, window=(0.2, 0.98)) -> tuple[Curve
                                    f"{abs(rate) * duration:.3g} m over the test"))
             break
     return tuple(flags)
+
+
+#: factors a unit slip multiplies a curve's depths or loads by (nm read as m: 1e-9)
+DEPTH_SLIPS = (1e-10, 1e-9, 1e-6, 1e-3, 1e3, 1e6, 1e9)
+LOAD_SLIPS = (1e-9, 1e-6, 1e-3, 1e3, 1e6, 1e9)
+
+
+def _unit_slip(si: str, factor: float) -> str:
+    """The words of a slip: ``in nm read as m`` for a factor 1e-9 of metres, ``in m read
+    as nm`` for 1e9."""
+    named = {round(math.log10(f)): unit for f, unit in SLIP_UNITS[si].items()}
+    e = round(math.log10(factor))
+    if e in named:
+        return f"in {named[e]} read as {si}"
+    return f"in {si} read as {named[-e]}" if -e in named else f"off by a factor {factor:g}"
+
+
+def implausible_modulus(E_r: float, how: str, rescaled) -> CurveFlag | None:
+    """The flag of a curve whose implied reduced modulus E_r (Pa) lies outside
+    `MODULUS_PLAUSIBLE`, the range of real solids: a unit slip in its depths or loads. None
+    when E_r is plausible. ``rescaled(depth_factor, load_factor)`` is the E_r of the curve
+    with its depths and loads so multiplied: the flag names the slip that brings E_r nearest
+    100 GPa, depths before loads."""
+    low, high = MODULUS_PLAUSIBLE
+    if low <= E_r <= high:
+        return None
+    message = (f"the curve implies E_r = {E_r:.3g} Pa ({how}), outside the {low / 1e9:g} GPa "
+               f"- {high / 1e12:g} TPa of real solids")
+    options = [("depths", "m", f, rescaled(f, 1.0)) for f in DEPTH_SLIPS] + \
+        [("loads", "N", f, rescaled(1.0, f)) for f in LOAD_SLIPS]
+    fits = [o for o in options if low <= o[3] <= high]
+    if fits:
+        def distance(option):
+            return abs(math.log(option[3] / 100e9))
+        best = min(distance(o) for o in fits)
+        # a sharp tip's E_r goes as P/h^2: depths x 1e3 and loads x 1e-6 cannot be told apart
+        slips = [o for o in fits if distance(o) <= best + 1e-6]
+        message += ("; are its " + ", or its ".join(
+            f"{kind} {_unit_slip(si, factor)} ({kind} x {factor:g})"
+            for kind, si, factor, _ in slips) + f"? (that gives E_r = {slips[0][3]:.3g} Pa)")
+    return CurveFlag("implausible_modulus", message)
 
 
 # ---- synthetic curves (known answers for tests, demos and benchmarks) ----------------------

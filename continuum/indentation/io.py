@@ -20,13 +20,14 @@ import io
 import json
 import math
 import re
+import stat
 from pathlib import Path
 
 import h5py
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import read_text
+from filmscale.core.files import input_limit, parse_json, read_text, read_toml
 
 from .curves import LoadDisplacementCurve
 
@@ -190,12 +191,30 @@ def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
     group.attrs["meta"] = json.dumps(dict(curve.meta), default=str)
 
 
+def _dataset(group, name: str, required: bool = True):
+    """A dataset of a curve group as an array; InputError naming the group when it is
+    missing or larger than the input limit (a hostile file may declare terabytes)."""
+    if name not in group:
+        if required:
+            raise InputError(f"curve group {group.name} has no dataset {name!r}")
+        return None
+    data = group[name]
+    if not isinstance(data, h5py.Dataset) or data.nbytes > input_limit():
+        raise InputError(f"curve group {group.name}: {name!r} is not a dataset of at most "
+                         f"{input_limit()} bytes")
+    return data[()]
+
+
 def read_curve_group(group) -> LoadDisplacementCurve:
     """The curve stored by `write_curve_group`."""
-    t = group["t"][()] if "t" in group else None
-    return LoadDisplacementCurve(group["h"][()], group["P"][()], t, group["segment"][()],
-                                 indenter=str(group.attrs.get("indenter", "")),
-                                 meta=json.loads(group.attrs.get("meta", "{}")))
+    meta = group.attrs.get("meta", "{}")
+    if isinstance(meta, str):
+        meta = parse_json(meta, "the meta attribute of curve group", group.name)
+    if not isinstance(meta, dict):
+        raise InputError(f"curve group {group.name}: its meta attribute is not a JSON object")
+    return LoadDisplacementCurve(_dataset(group, "h"), _dataset(group, "P"),
+                                 _dataset(group, "t", False), _dataset(group, "segment", False),
+                                 indenter=str(group.attrs.get("indenter", "")), meta=meta)
 
 
 def read_curves(path) -> dict[str, LoadDisplacementCurve]:
@@ -205,6 +224,12 @@ def read_curves(path) -> dict[str, LoadDisplacementCurve]:
     if path.suffix.lower() not in HDF5_SUFFIXES:
         return {path.stem: read_curve_text(path)}
 
+    try:
+        regular = stat.S_ISREG(path.stat().st_mode)
+    except OSError as err:
+        raise InputError(f"cannot read HDF5 file {path}: {err.strerror}") from None
+    if not regular:             # h5py would block on a pipe and misread a device
+        raise InputError(f"cannot read HDF5 file {path}: not a regular file")
     out = {}
     try:
         with h5py.File(path, "r") as f:
@@ -230,15 +255,10 @@ def read_area_function(path, base=None):
     in its square, as instrument software reports them. ``base`` is the nominal tip
     (Berkovich when None).
     """
-    import tomllib
-
     from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich
 
     path = Path(path)
-    try:
-        data = tomllib.loads(read_text(path, "area file"))
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"area file {path} is not valid TOML: {err}") from None
+    data = read_toml(path, "area file")
     coef = data.get("C")
     if not isinstance(coef, list) or not 1 <= len(coef) <= 9 or not all(
             isinstance(c, (int, float)) and not isinstance(c, bool) for c in coef):

@@ -22,12 +22,14 @@ from scipy.integrate import trapezoid
 from scipy.optimize import leastsq
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, modulus_from_reduced
-from filmscale.core.checks import check_choice, check_positive, check_real
+from filmscale.core.checks import (check_broadcast, check_choice, check_float_array,
+                                   check_positive, check_positive_array, check_real)
 from filmscale.core.errors import InputError
 from filmscale.core.jsonable import to_jsonable
 
-from .curves import CurveFlag, LoadDisplacementCurve, check_curve
-from .tips import Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
+from .curves import CurveFlag, LoadDisplacementCurve, check_curve, implausible_modulus
+from .spherical import loading_points
+from .tips import Sphere, Tip, beta_hay, beta_no_slip, epsilon_from_exponent, parse_tip
 
 OK, FAILED = 0, 1
 EPSILON_CHOICES = ("tip", "exponent")
@@ -176,9 +178,15 @@ def oliver_pharr(curve: LoadDisplacementCurve, tip: Tip | str, *, window=(0.2, 0
         Run `check_curve` and attach its flags.
 
     Returns an `OliverPharrResult`; a curve that cannot be analysed (no unloading, too few
-    points) gives status FAILED with the reason, not an exception, so batches keep going.
+    points) gives status FAILED with the reason, not an exception, so batches keep going. An
+    E_r outside the range of real solids (a unit slip in the curve's columns) is flagged
+    ``implausible_modulus``, with the slip that explains it.
     """
+    if not isinstance(curve, LoadDisplacementCurve):
+        raise InputError(f"curve must be a LoadDisplacementCurve, got {type(curve).__name__}")
     tip = parse_tip(tip)
+    if np.ndim(window) != 1 or len(window) != 2:
+        raise InputError(f"window = {window!r} must be (start, end) fractions of P_max")
     lo = check_real("window start", window[0], low=0.0, high=1.0, high_open=True)
     hi = check_real("window end", window[1], low=lo, high=1.0, low_open=True)
     if nu is not None:
@@ -234,6 +242,15 @@ def oliver_pharr(curve: LoadDisplacementCurve, tip: Tip | str, *, window=(0.2, 0
                        P_max, h_max)
     A_c = float(tip.area(h_c))
     E_r = math.sqrt(math.pi) * S / (2.0 * beta_value * math.sqrt(A_c))
+
+    def rescaled(f_h, f_P):
+        """E_r with depths x f_h and loads x f_P: S x f_P/f_h, h_c x f_h."""
+        area = float(tip.area(f_h * h_c))
+        return E_r * f_P / f_h * math.sqrt(A_c / area) if area > 0 else math.inf
+
+    implausible = implausible_modulus(E_r, "Oliver-Pharr", rescaled)
+    if implausible:
+        flags.append(implausible)
     load = c.loading()
     W_t = float(trapezoid(c.P[load], c.h[load]))
     h_end = float(h_unl[-1])
@@ -245,6 +262,47 @@ def oliver_pharr(curve: LoadDisplacementCurve, tip: Tip | str, *, window=(0.2, 0
         B=B, epsilon=eps, beta=beta_value, E=E, W_t=W_t, W_e=W_e, W_p=W_t - W_e,
         We_Wt=W_e / W_t if W_t > 0 else math.nan, fit_rms=rms, n_fit=int(sel.sum()),
         window=(lo, hi), tip=tip.spec, flags=tuple(flags))
+
+
+# ---- physical plausibility ------------------------------------------------------------------
+
+def apparent_hertz_modulus(curve: LoadDisplacementCurve, R: float) -> float:
+    """E* = 3 P / (4 R^(1/2) h^(3/2)) (Hertz, Johnson 1985), Pa: the median over the loading
+    points above 10 % of the largest load before the first pop-in, for a sphere of radius R
+    (m). Past first yield it falls (to about 5 H at h = R): a lower estimate of E*."""
+    h, P, pop = loading_points(curve, with_pop_in=True)
+    if pop is not None and pop >= 3:
+        h, P = h[:pop + 1], P[:pop + 1]
+    keep = P >= 0.1 * P.max()
+    return float(np.median(3.0 * P[keep] / (4.0 * math.sqrt(R) * h[keep]**1.5)))
+
+
+def refuse_implausible(curve: LoadDisplacementCurve, flags) -> None:
+    """InputError naming the curve when ``flags`` hold ``implausible_modulus``: a calibration
+    takes curves of real solids only."""
+    for flag in flags:
+        if flag and flag.code == "implausible_modulus":
+            raise InputError(f"curve {curve.meta.get('source', '')!r} refused: "
+                             f"{flag.message}")
+
+
+def check_curve_modulus(curve: LoadDisplacementCurve, tip: Tip | str | None = None,
+                        R: float | None = None) -> LoadDisplacementCurve:
+    """``curve`` when the modulus it implies is that of a real solid; else InputError naming
+    the curve and the unit slip that explains it (`implausible_modulus`). A sphere (``tip``,
+    else the curve's indenter, or a radius ``R`` in m) gives E* from its loading
+    (`apparent_hertz_modulus`), a sharp tip E_r from its unloading (`oliver_pharr`); a curve
+    without a tip or an analysable unloading passes (a calibration refuses it otherwise)."""
+    tip = parse_tip(tip) if tip else curve.indenter
+    if R is None and isinstance(tip, Sphere):
+        R = tip.R
+    if R is not None:
+        E = apparent_hertz_modulus(curve, R)
+        refuse_implausible(curve, [implausible_modulus(E, "Hertz fit of its loading",
+                                                       lambda f_h, f_P: E * f_P / f_h**1.5)])
+    elif tip is not None:
+        refuse_implausible(curve, oliver_pharr(curve, tip, check=False).flags)
+    return curve
 
 
 # ---- frame compliance -----------------------------------------------------------------------
@@ -270,9 +328,10 @@ def calibrate_frame_compliance(P_max, S) -> FrameCompliance:
     the compliance of the frame (Fischer-Cripps 2011, sec. 3.4). Use the result with
     `LoadDisplacementCurve.frame_corrected` and analyse again.
     """
-    P_max, S = np.asarray(P_max, dtype=float), np.asarray(S, dtype=float)
+    P_max, S = check_float_array("P_max", P_max), check_float_array("S", S)
     if P_max.shape != S.shape or P_max.ndim != 1:
-        raise InputError("P_max and S must be 1-D arrays of one length")
+        raise InputError(f"P_max and S must be 1-D arrays of one length, got shapes "
+                         f"{P_max.shape} and {S.shape}")
     if P_max.size < 3:
         raise InputError(f"frame compliance needs at least 3 indents at different loads, "
                          f"got {P_max.size}")
@@ -297,7 +356,8 @@ def elastic_indent(P_max, W_p, W_t, max_plastic_fraction=0.05):
     P_max (N), W_p and W_t (J) are arrays over the indents; NaN entries (failed analyses)
     never qualify.
     """
-    P_max, W_p, W_t = (np.asarray(v, dtype=float) for v in (P_max, W_p, W_t))
+    P_max, W_p, W_t = check_broadcast(**{name: check_float_array(name, v) for name, v in
+                                         (("P_max", P_max), ("W_p", W_p), ("W_t", W_t))})
     with np.errstate(divide="ignore", invalid="ignore"):
         elastic = (W_t > 0) & (np.abs(W_p / W_t) < max_plastic_fraction) & np.isfinite(P_max)
     if not elastic.any():
@@ -324,7 +384,8 @@ def shallow_depth_hardness(P_max, h_c, tip: Tip | str, *, P_e, h_me, S_e):
     tip = parse_tip(tip)
     P_e, h_me, S_e = (check_positive(n, v, u) for n, v, u in
                       (("P_e", P_e, "N"), ("h_me", h_me, "m"), ("S_e", S_e, "N/m")))
-    P_max, h_c = np.asarray(P_max, dtype=float), np.asarray(h_c, dtype=float)
+    P_max, h_c = check_broadcast(P_max=check_positive_array("P_max", P_max, "N"),
+                                 h_c=check_positive_array("h_c", h_c, "m"))
     h_e = h_me - 0.75 * P_e / S_e
     h_r = h_c - h_e
     if np.any(h_r <= 0):

@@ -162,7 +162,10 @@ def test_a_changed_byte_is_caught(tmp_path):
     assert isinstance(caught.value, PotentialError)
 
 
-def test_verification_is_cached_per_path_size_and_mtime(tmp_path, monkeypatch):
+def test_every_verification_hashes_the_bytes_so_a_change_keeping_size_and_mtime_is_caught(
+        tmp_path, monkeypatch):
+    """A cache keyed by (path, size, mtime) trusted a file rewritten in place with its size
+    and modification time put back; every use now hashes the bytes."""
     path = tmp_path / "Cu.eam.alloy"
     shutil.copyfile(WHEEL / "Cu_mishin1.eam.alloy", path)
     hour_ago = path.stat().st_mtime - 3600
@@ -173,18 +176,20 @@ def test_verification_is_cached_per_path_size_and_mtime(tmp_path, monkeypatch):
     real = hashlib.file_digest
     monkeypatch.setattr(hashlib, "file_digest",
                         lambda f, algorithm: reads.append(1) or real(f, algorithm))
-    potential.verify()                              # hashed once, by user_potential
     potential.verify()
     potential.pair_commands(["Cu"])
-    assert reads == []
-    assert potential.sha256_of_file() == potential.sha256 and reads == [1]
+    assert reads == [1, 1]
+    before = path.stat()
     data = bytearray(path.read_bytes())
     data[-3] = ord("7") if data[-3] != ord("7") else ord("8")
-    path.write_bytes(bytes(data))                   # same size, new mtime
-    os.utime(path, (hour_ago + 1, hour_ago + 1))
+    path.write_bytes(bytes(data))
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))
+    after = path.stat()
+    assert (after.st_size, after.st_mtime_ns) == (before.st_size, before.st_mtime_ns)
     with pytest.raises(ChecksumError):
         potential.verify()
-    assert reads == [1, 1]
+    with pytest.raises(ChecksumError):
+        potential.pair_commands(["Cu"])
 
 
 def test_user_potential_records_digest_and_reads_the_eam_header(tmp_path):

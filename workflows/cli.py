@@ -19,7 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from filmscale import __version__
-from filmscale.continuum.contact.impact_map import MAP_FIELDS, impact_map
+from filmscale.continuum.contact.impact_map import MAP_FIELDS, axis, impact_map
+from filmscale.continuum.contact.oblique import oblique_map
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
@@ -98,6 +99,8 @@ def cmd_impact(args) -> int:
     V = option("--velocity", args.velocity, imp.velocity, VELOCITY_RANGE, "m/s")
     R = option("--radius", args.radius, imp.radius, RADIUS_RANGE, "m")
     m = option("--mass", args.mass, imp.mass, MASS_RANGE, "kg")
+    if imp.shape == "cylinder":
+        return _cylinder_impact(args, scene, V, R, m)
     output_path("--history", args.history)
     plot_path("--plot", args.plot)
     check_outputs(_scene_files(scene),
@@ -115,6 +118,13 @@ def cmd_impact(args) -> int:
             plot_history(history, args.plot)
     else:
         result = model.maxima(V, R, m).result(())
+    angle = imp.angle if args.angle is None else check_real(
+        "--angle", args.angle, low=0.0, high=90.0, high_open=True, unit="degrees")
+    if angle > 0:       # the normal result above stays in the history; friction adds no cost
+        from filmscale.continuum.contact.oblique import solve_oblique
+        result = solve_oblique(model, V, R, m, angle, scene.friction,
+                               inertia_factor=imp.inertia_factor,
+                               path="time" if want_history else "fast", rtol=scene.rtol)
     if args.json:
         print(dumps(result.to_dict()))
     else:
@@ -122,14 +132,45 @@ def cmd_impact(args) -> int:
     return 0
 
 
+def _cylinder_impact(args, scene: Scene, V, R, m) -> int:
+    """`filmscale impact` on a cylinder scene: the maxima of a normal impact."""
+    for flag, value in (("--history", args.history), ("--plot", args.plot),
+                        ("--angle", args.angle)):
+        if value:
+            raise InputError(f"{flag} applies to sphere impactors: the cylinder model gives "
+                             f"the maxima of a normal impact")
+    model = scene.cylinder_model()
+    result = (model.history(V, R, m, rtol=scene.rtol) if scene.path == "time"
+              else model.maxima(V, R, m))
+    print(dumps(result.to_dict()) if args.json else result.summary())
+    return 0
+
+
 def cmd_impact_map(args) -> int:
     scene: Scene = load_scene(args.scene)
+    scene.require_sphere()      # the cylinder model has no vectorised fast path
     spec = MapSpec(velocity=args.velocity or scene.map.velocity,
                    radius=args.radius or scene.map.radius,
                    spacing=args.spacing or scene.map.spacing,
                    velocity_name="--velocity" if args.velocity else "map.velocity",
                    radius_name="--radius" if args.radius else "map.radius")
-    velocity, radius = spec.axes()
+    angle = scene.impactor.angle
+    if args.angle is not None:      # rows: incidence angles at the scene's radius
+        if args.plot:
+            raise InputError("--plot draws (V, R) maps: leave it out with --angle")
+        if spec.velocity is None:
+            raise InputError("an impact map needs a velocity range: give --velocity "
+                             "MIN:MAX:N or [map] velocity")
+        velocity = axis(*spec.velocity, spec.spacing, spec.velocity_name, VELOCITY_RANGE,
+                        "m/s")
+        for value in args.angle[:2]:
+            check_real("--angle", value, low=0.0, high=90.0, high_open=True, unit="degrees")
+        angle = axis(*args.angle, "linear", "--angle", (-math.inf, 90.0))
+        radius = scene.impactor.radius
+    else:
+        velocity, radius = spec.axes()
+    oblique = np.any(np.asarray(angle) > 0)
+    n_rows = np.size(angle) if args.angle is not None else radius.size
     output_path("--out", args.out)
     plot_path("--plot", args.plot)
     if args.plot and (velocity.size < 2 or radius.size < 2):
@@ -147,17 +188,25 @@ def cmd_impact_map(args) -> int:
         def progress(done, total, key=key):
             print(f"\r{label_of[key]}: {done}/{total} impacts", end="", file=sys.stderr,
                   flush=True)
-        large = velocity.size * radius.size > 20_000
-        maps[key] = impact_map(model, velocity, radius, scene.impactor.mass,
-                               progress=progress if large else None)
-        print(f"{chr(13) if large else ''}{label_of[key]}: {velocity.size} x {radius.size} "
+        large = oblique or velocity.size * n_rows > 20_000
+        if oblique:
+            maps[key] = oblique_map(model, velocity, radius, scene.impactor.mass, angle,
+                                    scene.friction, inertia_factor=scene.impactor.inertia_factor,
+                                    rtol=scene.rtol, progress=progress)
+        else:
+            maps[key] = impact_map(model, velocity, radius, scene.impactor.mass,
+                                   progress=progress if large else None)
+        print(f"{chr(13) if large else ''}{label_of[key]}: {velocity.size} x {n_rows} "
               f"impacts", file=sys.stderr)
     elapsed = time.perf_counter() - start
 
     from filmscale.core.provenance import provenance
 
     from .result import write_impact_maps
-    out = write_impact_maps(args.out, maps, {k: m.describe() for k, m in models.items()},
+    described = {k: m.describe() | ({"friction": scene.friction,
+                                     "inertia_factor": scene.impactor.inertia_factor}
+                                    if oblique else {}) for k, m in models.items()}
+    out = write_impact_maps(args.out, maps, described,
                             provenance(command=" ".join(sys.argv), scene_source=scene.source),
                             scene.text)
     if args.plot:
@@ -165,13 +214,17 @@ def cmd_impact_map(args) -> int:
         plot_impact_maps({label_of[k]: v for k, v in maps.items()}, args.plot,
                          title=scene.title or f"{scene.law.name}, m = {scene.impactor.mass:g} kg")
     summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
-               "points": int(velocity.size * radius.size)}
+               "points": int(velocity.size * n_rows)}
     for key, mp in maps.items():
         summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
                         "yielded": int(mp.maxima.yielded.sum())}
         summary[key].update({f: _extreme(np.max, mp.field(f))
                              for f in MAP_FIELDS if f != "restitution"})
         summary[key]["restitution_min"] = _extreme(np.min, mp.field("restitution"))
+        if oblique:
+            e_x = mp.field("restitution_tangential")
+            summary[key].update(restitution_tangential_min=_extreme(np.min, e_x),
+                                restitution_tangential_max=_extreme(np.max, e_x))
     if args.json:
         print(dumps(summary))
     else:
@@ -364,13 +417,17 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"filmscale {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("impact", help="one normal impact of the scene's sphere",
+    p = sub.add_parser("impact", help="one normal impact of the scene's sphere or cylinder",
                        description="Maxima of one normal impact (fast energy quadrature), or "
                                    "its time history with --history/--plot.")
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--velocity", type=float, help="normal impact velocity V (m/s)")
     p.add_argument("--radius", type=float, help="sphere radius R (m)")
     p.add_argument("--mass", type=float, help="impacting mass m (kg)")
+    p.add_argument("--angle", type=float, metavar="DEG",
+                   help="incidence from the normal in degrees, V staying the normal speed: an "
+                        "oblique impact with the scene's [contact] friction (default: the "
+                        "scene's impactor.angle)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--history", metavar="FILE.csv",
                    help="integrate in time and write the history (SI units)")
@@ -385,8 +442,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--velocity", type=_range_arg, metavar="MIN:MAX:N",
                    help="velocity axis in m/s (default: the scene's [map])")
-    p.add_argument("--radius", type=_range_arg, metavar="MIN:MAX:N",
-                   help="radius axis in m (default: the scene's [map])")
+    rows = p.add_mutually_exclusive_group()
+    rows.add_argument("--radius", type=_range_arg, metavar="MIN:MAX:N",
+                      help="radius axis in m (default: the scene's [map])")
+    rows.add_argument("--angle", type=_range_arg, metavar="MIN:MAX:N",
+                      help="incidence axis in degrees (linear) at the scene's radius instead: "
+                           "oblique impacts with the scene's [contact] friction, about 0.5 s "
+                           "per point that neither slides throughout nor lacks friction")
     p.add_argument("--spacing", choices=("log", "linear"), help="axis spacing (default log)")
     p.add_argument("--out", required=True, metavar="MAP.h5", help="HDF5 result file")
     p.add_argument("--plot", metavar="MAP.png", help="contour plots")

@@ -3,8 +3,10 @@ its reason, estimated error and cost.
 
 Rules (docs/physics.md; benchmarks/impact_speed_vs_error.py):
 1. MD runs only for layers whose E or sigma_y is missing.
-2. Normal impact only with friction below 0.3, a normal approach and no tangential output;
-   anything else is refused (filmscale has no oblique impact model).
+2. The oblique model (docs/physics.md section 5) when the impact has a tangential problem:
+   an angle above 0 with friction above 0, or tangential outputs asked for; otherwise the
+   normal impact (a normal approach has no tangential force, a frictionless one leaves the
+   tangential velocity unchanged). Tangential outputs with a normal approach are refused.
 3. The films are modelled (Gao-weighted profile) only where skipping them changes the
    maxima by more than the tolerance at the scene's extreme points; otherwise the substrate
    alone, with that change reported as the error of skipping them.
@@ -145,12 +147,26 @@ def _timed(fn):
 
 
 def _check_direction(outputs, friction: float, angle: float) -> None:
-    """Rule 2's refusal."""
-    if friction >= FRICTION_LIMIT or angle > 0 or "tangential" in outputs:
+    """Rule 2's refusal: tangential outputs of an impact that has no tangential motion."""
+    if "tangential" in outputs and angle == 0:
         raise InputError(
-            f"impactor.friction = {friction:g}, impactor.angle = {angle:g} deg, outputs "
-            f"{sorted(outputs)}: filmscale models normal impact only (friction below "
-            f"{FRICTION_LIMIT}, angle 0, no tangential output); an oblique model is not built")
+            f"outputs {sorted(outputs)} ask for tangential results but impactor.angle = 0: a "
+            "normal approach has no tangential motion; give impactor.angle in (0, 90) degrees")
+
+
+def _direction_step(outputs, friction: float, angle: float) -> Step:
+    """Rule 2's choice between the normal and the oblique impact."""
+    if angle > 0 and (friction > 0 or "tangential" in outputs):
+        coupled = (f"; above mu = {FRICTION_LIMIT} the normal motion may depend on friction, "
+                   "which the model leaves out" if friction >= FRICTION_LIMIT else "")
+        return Step("direction", "oblique impact (Mindlin spring, Coulomb cap, rotation)",
+                    f"angle {angle:g} deg with friction {friction:g}"
+                    + (" and tangential outputs asked for" if "tangential" in outputs else "")
+                    + ": the tangential velocity and spin change (rule 2)",
+                    "normal motion independent of the tangential force" + coupled, 0.0)
+    why = ("a frictionless contact leaves the tangential velocity unchanged" if angle > 0
+           else "a normal approach has no tangential force, whatever the friction")
+    return Step("direction", "normal impact", f"{why} (rule 2)", "none from the direction", 0.0)
 
 
 def check_request(pipeline: PipelineScene) -> None:
@@ -167,9 +183,8 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
                 angle: float = 0.0) -> Plan:
     """Rules 2-5 on a complete scene."""
     _check_direction(outputs, friction, angle)
-    steps = [Step("direction", "normal impact",
-                  f"friction {friction:g} < {FRICTION_LIMIT}, normal approach, no tangential "
-                  "output (rule 2)", "tangential traction neglected", 0.0)]
+    steps = [_direction_step(outputs, friction, angle)]
+    oblique = steps[0].model.startswith("oblique")
     V, R = _points(scene, outputs)
     m = scene.impactor.mass
     law = scene.law
@@ -231,8 +246,20 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
                       "fast maxima (energy quadrature)",
                       "maxima, restitution and residual depth need no time history (rule 5)",
                       "about 1e-11 relative (12-node quadrature)", one * count))
-    return Plan(tuple(steps), {"target": target, "law": chosen.name, "path": path,
-                               "map": "map" in outputs, "history": path == "time"})
+    if oblique:
+        from filmscale.continuum.contact.oblique import solve_oblique
+        imp = scene.impactor
+        res, one = _timed(lambda: solve_oblique(run_model, imp.velocity, imp.radius, m, angle,
+                                                friction, inertia_factor=imp.inertia_factor))
+        steps.append(Step("tangential", f"oblique impact at the scene's point ({res.path})",
+                          "closed form where the contact slips throughout or has no friction, "
+                          "else time integration (docs/physics.md s. 5)",
+                          "closed form exact; time integration rtol 1e-9", one))
+    decisions = {"target": target, "law": chosen.name, "path": path,
+                 "map": "map" in outputs, "history": path == "time"}
+    if oblique:
+        decisions.update(direction="oblique", friction=friction, angle=angle)
+    return Plan(tuple(steps), decisions)
 
 
 def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None,

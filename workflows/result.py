@@ -13,6 +13,7 @@ import numpy as np
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.continuum.contact.impact import STATUS_MESSAGES, ImpactMaxima
 from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.continuum.contact.oblique import OBLIQUE_FIELDS
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5
@@ -110,7 +111,8 @@ def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
                 if key in ("velocity", "radius", "mass"):
                     continue
                 ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
-                ds.attrs["units"] = ImpactMaxima.UNITS.get(key, "1")
+                ds.attrs["units"] = {**ImpactMaxima.UNITS, **OBLIQUE_FIELDS,
+                                     "angle": "degrees"}.get(key, "1")
             g.attrs["regime_names"] = dumps(list(maps[label].maxima.regime_names))
             g.attrs["status_codes"] = dumps(STATUS_MESSAGES)
             g.attrs["model"] = dumps(models.get(label, {}))

@@ -19,6 +19,7 @@ from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, La
                                  StackProfile)
 from filmscale.continuum.calibration.result import EXCLUDES
 from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
+from filmscale.continuum.contact.cylinder import CylinderImpactModel, check_cylinder_mass
 from filmscale.continuum.contact.impact_map import axis
 from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
@@ -35,15 +36,17 @@ from filmscale.core.files import parse_toml, read_text
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
-    "impactor": {"shape", "radius", "mass", "velocity", "E", "nu", "name"},
+    "impactor": {"shape", "radius", "mass", "velocity", "E", "nu", "name", "angle",
+                 "inertia_factor", "length", "datum_depth"},
     "target": {"substrate", "layers", "profile"},
     "target.substrate": _MATERIAL_KEYS | {"h_star"},
     "target.layers": _MATERIAL_KEYS | {"thickness", "h_star"},
     "target.profile": {"file", "h_c", "E_r", "H", "breakpoints", "indenter", "nu"},
     "model": {"contact_law", "unloading", "limiting_pressure_factor", "path", "rtol"},
     "map": {"velocity", "radius", "spacing"},
+    "contact": {"friction"},
 }
-_TOP = {"impactor", "target", "model", "map", "title", "description"}
+_TOP = {"impactor", "target", "model", "map", "contact", "title", "description"}
 
 
 def _h_star(where: str, table: dict) -> float:
@@ -83,6 +86,11 @@ class Impactor:
     velocity: float
     material: ElasticPlastic | None = None
     name: str = "impactor"
+    angle: float = 0.0              #: incidence from the normal, degrees (V stays normal)
+    inertia_factor: float = 0.4     #: I / (m R^2), 0.4 for a solid sphere
+    shape: str = "sphere"           #: "sphere" or "cylinder" (line contact over ``length``)
+    length: float | None = None     #: L of a cylinder, m
+    datum_depth: float | None = None  #: d of a cylinder's approach, m (None: d = L)
 
 
 @dataclass(frozen=True)
@@ -118,6 +126,7 @@ class Scene:
     #: Nix-Gao length h* (m) of each layer, then the substrate (all 0: no size effect)
     h_star: tuple[float, ...] = ()
     map: MapSpec = field(default_factory=MapSpec)
+    friction: float = 0.0           #: Coulomb coefficient of the contact (oblique impact)
     title: str = ""
     text: str = ""
     source: str = ""
@@ -126,16 +135,32 @@ class Scene:
     def layered(self) -> bool:
         return bool(self.stack.layers) or self.profile is not None
 
+    def _target(self):
+        """The full target: measured profile, else the Gao-weighted stack."""
+        if self.profile is None and any(self.h_star):
+            return StackProfile(self.stack, self.h_star)
+        return self.profile if self.profile is not None else self.stack
+
+    def require_sphere(self):
+        """InputError unless the impactor is a sphere (the models other than `impact`)."""
+        if self.impactor.shape != "sphere":
+            raise InputError(f"this command models sphere impactors only; impactor.shape = "
+                             f"\"{self.impactor.shape}\" runs with `filmscale impact`")
+
     def model(self) -> ImpactModel:
         """The impact model of the full target (measured profile, else the Gao-weighted
         stack)."""
-        target = self.profile if self.profile is not None else self.stack
-        if self.profile is None and any(self.h_star):
-            target = StackProfile(self.stack, self.h_star)
-        return ImpactModel(target, self.law, self.impactor.material, self.unloading)
+        self.require_sphere()
+        return ImpactModel(self._target(), self.law, self.impactor.material, self.unloading)
+
+    def cylinder_model(self) -> CylinderImpactModel:
+        """The line-contact model (docs/physics.md section 6) of a cylinder scene."""
+        imp = self.impactor
+        return CylinderImpactModel(self._target(), imp.length, imp.material, imp.datum_depth)
 
     def substrate_model(self) -> ImpactModel:
         """The same impact on the bare substrate (the homogeneous reference)."""
+        self.require_sphere()
         target = self.stack.substrate
         if self.h_star and self.h_star[-1] > 0:
             target = StackProfile(LayerStack((), target), (self.h_star[-1],))
@@ -195,7 +220,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     check_keys("scene", data, _TOP)
 
     imp = check_keys("impactor", required("scene", data, "impactor"), _SECTIONS["impactor"])
-    check_choice("impactor.shape", imp.get("shape", "sphere"), ("sphere",))
+    shape = check_choice("impactor.shape", imp.get("shape", "sphere"), ("sphere", "cylinder"))
     if ("E" in imp) != ("nu" in imp):
         raise InputError("impactor.E and impactor.nu go together: give both for an elastic "
                          "impactor, neither for a rigid one")
@@ -208,11 +233,34 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         return check_real(f"impactor.{key}", required("impactor", imp, key), low=bounds[0],
                           high=bounds[1], low_open=True, unit=unit)
 
+    length = datum = None
+    if shape == "cylinder":
+        length = ranged("length", RADIUS_RANGE, "m")
+        if "datum_depth" in imp:
+            datum = check_real("impactor.datum_depth", imp["datum_depth"], low=0.0,
+                               high=math.inf, low_open=True, high_open=True, unit="m")
+    for key in ("length", "datum_depth"):
+        if key in imp and shape != "cylinder":
+            raise InputError(f"impactor.{key} applies to shape = \"cylinder\" only")
     impactor = Impactor(
         radius=ranged("radius", RADIUS_RANGE, "m"), mass=ranged("mass", MASS_RANGE, "kg"),
         velocity=ranged("velocity", VELOCITY_RANGE, "m/s"),
-        material=imp_material, name=str(imp.get("name", "impactor")))
-    check_density(impactor.radius, impactor.mass, "impactor.radius", "impactor.mass")
+        material=imp_material, name=str(imp.get("name", "impactor")),
+        angle=check_real("impactor.angle", imp.get("angle", 0.0), low=0.0, high=90.0,
+                         high_open=True, unit="degrees"),
+        inertia_factor=check_real("impactor.inertia_factor", imp.get("inertia_factor", 0.4),
+                                  low=0.0, high=1.0, low_open=True),
+        shape=shape, length=length, datum_depth=datum)
+    contact = check_keys("contact", data.get("contact", {}), _SECTIONS["contact"])
+    friction = check_real("contact.friction", contact.get("friction", 0.0), low=0.0, high=10.0)
+    if shape == "cylinder":
+        check_cylinder_mass(impactor.radius, length, impactor.mass,
+                            ("impactor.radius", "impactor.length", "impactor.mass"))
+        if impactor.angle > 0:
+            raise InputError("impactor.angle applies to sphere impactors only: the cylinder "
+                             "model is a normal impact")
+    else:
+        check_density(impactor.radius, impactor.mass, "impactor.radius", "impactor.mass")
 
     target = check_keys("target", required("scene", data, "target"), _SECTIONS["target"])
     raw_sub = check_keys("target.substrate", required("target", target, "substrate"),
@@ -245,6 +293,10 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                              "\"thornton\" only")
         options["limiting_pressure_factor"] = model["limiting_pressure_factor"]
     law = contact_law(law_name, **options)
+    sphere_keys = {"contact_law", "unloading", "limiting_pressure_factor"} & set(model)
+    if shape == "cylinder" and sphere_keys:
+        raise InputError(f"model.{sorted(sphere_keys)[0]} applies to sphere impactors: a "
+                         f"cylinder uses the line-contact law of docs/physics.md section 6")
     unloading = check_choice("model.unloading", model.get("unloading", "auto"),
                              ("auto",) + UNLOADING_MODELS)
     path = check_choice("model.path", model.get("path", "fast"), ("fast", "time"))
@@ -267,7 +319,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                       "impactor.mass")
     return Scene(impactor=impactor, stack=stack, law=law, unloading=unloading, path=path,
                  rtol=rtol, profile=profile, h_star=tuple(h_star) if any(h_star) else (),
-                 map=map_spec, title=str(data.get("title", "")),
+                 map=map_spec, friction=friction, title=str(data.get("title", "")),
                  text=text, source=source)
 
 
@@ -507,7 +559,12 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
     tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=1e-6,
                            high=0.5)
     imp = data.get("impactor", {})
-    friction = check_real("impactor.friction", imp.pop("friction", 0.0), low=0.0, high=10.0)
+    contact = data.get("contact") if isinstance(data.get("contact"), dict) else {}
+    if "friction" in contact and "friction" in imp:
+        raise InputError("contact.friction and impactor.friction (its older name) are the same "
+                         "coefficient: give one")
+    friction = check_real("contact.friction" if "friction" in contact else "impactor.friction",
+                          contact.get("friction", imp.pop("friction", 0.0)), low=0.0, high=10.0)
     angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
                        high_open=True, unit="degrees")
     sources = []

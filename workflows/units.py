@@ -360,6 +360,15 @@ def _impact_arrays(scene: Scene, plan: Plan, history: bool) -> dict[str, np.ndar
     one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
     arrays = {f"point/{k}": v for k, v in asdict(one).items()
               if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    if plan.decisions.get("direction") == "oblique":
+        from filmscale.continuum.contact.oblique import REGIMES, solve_oblique
+        res = solve_oblique(model, imp.velocity, imp.radius, imp.mass, plan.decisions["angle"],
+                            plan.decisions["friction"], inertia_factor=imp.inertia_factor)
+        arrays.update({f"point/{k}": getattr(res, k) for k in (
+            "angle", "friction", "restitution_tangential", "restitution_contact_point",
+            "impulse_ratio", "rebound_angle", "spin")})
+        # an index into continuum.contact.oblique.REGIMES: the store holds numbers
+        arrays["point/regime_tangential"] = REGIMES.index(res.regime_tangential)
     if history:
         hist = model.history(imp.velocity, imp.radius, imp.mass, rtol=scene.rtol)
         arrays.update({f"history/{k}": getattr(hist, k)

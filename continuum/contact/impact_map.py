@@ -6,6 +6,7 @@ stopping the map; `ImpactMap.field` returns any result as an (n_R, n_V) array in
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,12 +43,19 @@ def axis(low, high, count, spacing: str = "log", name: str = "axis",
 
 @dataclass(frozen=True)
 class ImpactMap:
-    """Maxima on the grid ``radius`` (rows) x ``velocity`` (columns)."""
+    """Maxima on the grid ``radius`` (rows) x ``velocity`` (columns).
+
+    An oblique map (`continuum.contact.oblique.oblique_map`) adds the incidence angle of each
+    row and its tangential results; its rows vary the radius or the angle, the other repeated.
+    """
 
     velocity: np.ndarray        #: V, m/s, shape (n_V,)
     radius: np.ndarray          #: R, m, shape (n_R,)
     mass: float                 #: kg
     maxima: ImpactMaxima        #: fields of shape (n_R, n_V)
+    angle: np.ndarray | None = None     #: incidence of each row (oblique), degrees
+    #: oblique results (`oblique.OBLIQUE_FIELDS`), each of shape (n_R, n_V)
+    tangential: dict = dataclasses.field(default_factory=dict)
 
     @property
     def out_of_range(self) -> np.ndarray:
@@ -56,7 +64,9 @@ class ImpactMap:
 
     def field(self, name: str) -> np.ndarray:
         """One result as an (n_R, n_V) float array, NaN where out of range."""
-        check_choice("map field", name, tuple(ImpactMaxima.UNITS))
+        check_choice("map field", name, tuple(ImpactMaxima.UNITS) + tuple(self.tangential))
+        if name in self.tangential:
+            return np.asarray(self.tangential[name], dtype=float)
         return np.asarray(getattr(self.maxima, name), dtype=float)
 
     def to_dict(self) -> dict:
@@ -66,6 +76,9 @@ class ImpactMap:
                "yielded": self.maxima.yielded}
         out.update({k: self.field(k) for k in ImpactMaxima.UNITS
                     if k not in ("velocity", "radius", "mass")})
+        if self.angle is not None:
+            out["angle"] = self.angle
+        out.update(self.tangential)
         return out
 
 

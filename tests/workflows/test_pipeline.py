@@ -91,12 +91,23 @@ def test_histories_take_the_time_path_and_maps_the_fast_path():
     assert plan_scene(scene()).decisions["path"] == "fast"
 
 
-@pytest.mark.parametrize("extra, want", [("friction = 0.5", '["maxima"]'),
-                                         ("angle = 30.0", '["maxima"]'),
-                                         ("", '["maxima", "tangential"]')])
-def test_oblique_or_frictional_questions_are_refused(extra, want):
-    with pytest.raises(InputError, match="normal impact only"):
-        plan_scene(scene(impactor_extra=extra, want=want))
+@pytest.mark.parametrize("extra, want, direction", [
+    ("friction = 0.5", '["maxima"]', "normal impact"),
+    ("angle = 30.0", '["maxima"]', "normal impact"),
+    ("angle = 30.0\nfriction = 0.2", '["maxima"]', "oblique impact"),
+    ("angle = 30.0", '["maxima", "tangential"]', "oblique impact")])
+def test_rule_2_chooses_normal_or_oblique_by_friction_and_angle(extra, want, direction):
+    plan = plan_scene(scene(impactor_extra=extra, want=want))
+    step = [s for s in plan.steps if s.name == "direction"][0]
+    assert step.model.startswith(direction) and "(rule 2)" in step.reason
+    assert (plan.decisions.get("direction") == "oblique") == (direction == "oblique impact")
+    if direction == "oblique impact":
+        assert any(s.name == "tangential" for s in plan.steps)
+
+
+def test_tangential_outputs_of_a_normal_approach_are_refused():
+    with pytest.raises(InputError, match="a normal approach has no tangential motion"):
+        plan_scene(scene(want='["maxima", "tangential"]'))
 
 
 def test_md_only_for_layers_whose_parameters_are_missing():

@@ -68,7 +68,7 @@ def test_bad_values_name_the_field(extra, match):
     ("velocity = 0.2", "velocity = -0.2", r"impactor.velocity = -0.2 m/s is outside"),
     ("velocity = 0.2", "", r"impactor.velocity is missing"),
     ("mass = 1.6e-6", "mass = 0", r"impactor.mass = 0 kg is outside"),
-    ("shape = \"sphere\"", "shape = \"cylinder\"", r"impactor.shape = 'cylinder' is not one of"),
+    ("shape = \"sphere\"", "shape = \"cube\"", r"impactor.shape = 'cube' is not one of"),
     ("velocity = 0.2", "velocity = 0.2\nE = 4e11", r"impactor.E and impactor.nu go together"),
     ("sigma_y = 2.4e9", "sigma_y = \"hard\"", r"target.substrate.sigma_y must be a number"),
     ("radius = 10e-6", "radius = 10e-6\ncolour = \"red\"", r"unknown key impactor.colour"),

@@ -1,0 +1,231 @@
+"""Finite-cylinder (line-contact) impact: both solution paths against oracles written here.
+
+The oracles use Johnson's (1985) approach law in the load per unit length P' (the model
+works in the half-width b), a root finder on it and adaptive quadrature or an explicit
+Runge-Kutta integration of m x'' = -L P'(x)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad, solve_ivp
+from scipy.optimize import brentq
+
+from filmscale.continuum.contact.cylinder import (FULLY_PLASTIC_FACTOR, CylinderImpactModel,
+                                                  cylinder_yield_factor, line_approach,
+                                                  line_half_width, line_work)
+from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
+from filmscale.core.errors import InputError, ModelRangeError
+
+STEEL = ElasticPlastic(E=200e9, nu=0.3, sigma_y=1e9, name="steel")
+ELASTIC = ElasticPlastic(E=200e9, nu=0.3, sigma_y=math.inf, name="elastic steel")
+SLIDER = ElasticPlastic(E=400e9, nu=0.23, name="AlTiC")
+R, L, M = 1e-3, 5e-3, 1e-3
+
+
+# --- independent oracle: Johnson's law in P' ------------------------------------------------
+
+def johnson_approach(p, e_star, nu, d):
+    """delta(P') = (2 P'/(pi E*)) (ln(2d/b) - nu/(2(1-nu))), b = 2 sqrt(P' R/(pi E*))."""
+    b = 2.0 * math.sqrt(p * R / (math.pi * e_star))
+    return 2.0 * p / (math.pi * e_star) * (math.log(2.0 * d / b) - nu / (2.0 * (1.0 - nu)))
+
+
+def johnson_load(delta, e_star, nu, d):
+    """P' (N/m) at approach delta, by brentq on the law in ln P'."""
+    if delta <= 1e-200:       # the load there is below 1e-180 N/m
+        return 0.0
+    top = math.log(math.pi * e_star * (0.1 * d) ** 2 / R)     # b = d/5: the law increases
+    return math.exp(brentq(lambda t: johnson_approach(math.exp(t), e_star, nu, d) - delta,
+                           top - 500.0, top, xtol=1e-14, rtol=1e-15))
+
+
+def johnson_impact(V, e_star, nu, d):
+    """(delta_max, contact time) of the elastic impact: delta_max from m V^2/2 = L W(delta)
+    and t_c = 2 integral_0^delta_max d(delta)/v(delta), in delta = delta_max (1 - u^2)."""
+    def work(lo, hi):
+        return quad(lambda x: johnson_load(x, e_star, nu, d), lo, hi, epsabs=0,
+                    epsrel=1e-13, limit=200)[0]
+    energy = 0.5 * M * V * V / L
+    d_max = brentq(lambda x: work(0.0, x) - energy, 1e-12, 1e-4, xtol=1e-22, rtol=1e-14)
+
+    def integrand(u):
+        x = d_max * (1.0 - u * u)
+        return 2.0 * d_max * u / math.sqrt(2.0 * L / M * work(x, d_max)) if 0 < u < 1 else 0.0
+    return d_max, 2.0 * quad(integrand, 0.0, 1.0, epsabs=0, epsrel=1e-11)[0]
+
+
+def test_yield_factor_matches_the_plane_strain_von_mises_maximum():
+    # McEwen's stresses on the axis under p0 sqrt(1 - x^2/b^2), plane strain sigma_y =
+    # nu (sigma_x + sigma_z); C = 1/max(von Mises/p0) over depth, surface included
+    z = np.linspace(0.0, 4.0, 400001)
+    r = np.sqrt(1.0 + z * z)
+    sx, sz = -((1.0 + 2.0 * z * z) / r - 2.0 * z), -1.0 / r
+    for nu in np.linspace(0.0, 0.5, 21):
+        sy = nu * (sx + sz)
+        vm = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2))
+        assert float(cylinder_yield_factor(nu)) == pytest.approx(1.0 / vm.max(), rel=1.5e-3)
+    assert float(cylinder_yield_factor(0.3)) == pytest.approx(1.794, abs=1.5e-3)
+
+
+def test_line_law_closed_forms_against_johnson_in_load():
+    e_star, nu, d = STEEL.plane_strain_modulus, 0.3, 2e-3
+    for p in (1e2, 1e5, 1e7):
+        delta = johnson_approach(p, e_star, nu, d)
+        b = float(line_half_width(delta, R, d, nu))
+        assert b == pytest.approx(2.0 * math.sqrt(p * R / (math.pi * e_star)), rel=1e-12)
+        assert float(line_approach(b, R, d, nu)) == pytest.approx(delta, rel=1e-13)
+        # work by parts in P': P' delta - integral delta dP'
+        w = p * delta - quad(lambda q: johnson_approach(q, e_star, nu, d), 0.0, p,
+                             epsabs=0, epsrel=1e-13)[0]
+        assert float(line_work(b, R, e_star, d, nu)) == pytest.approx(w, rel=1e-11)
+
+
+def test_datum_depth_shifts_the_approach_by_the_log_of_its_ratio():
+    b = 3e-5
+    near, far = (CylinderImpactModel(STEEL, L, datum_depth=d).approach(b, R) for d in (L, 10 * L))
+    assert far - near == pytest.approx(b * b / (2 * R) * math.log(10.0), rel=1e-12)
+
+
+def test_first_yield_against_the_closed_form():
+    model = CylinderImpactModel(STEEL, L)
+    tables = model.tables(R)
+    e_star, c = STEEL.plane_strain_modulus, float(cylinder_yield_factor(0.3))
+    b_y = 2.0 * R * c * STEEL.sigma_y / e_star
+    assert tables.b_yield == pytest.approx(b_y, rel=1e-12)
+    assert model.line_load(b_y, R, tables) == pytest.approx(
+        math.pi * R * (c * STEEL.sigma_y) ** 2 / e_star, rel=1e-12)
+    # the cap starts where the elastic mean pressure (pi/4) p0 reaches p_fp
+    assert tables.b_plastic == pytest.approx(4 / math.pi * FULLY_PLASTIC_FACTOR / c * b_y,
+                                             rel=1e-12)
+    res = model.maxima(0.5, R, M)
+    w_y = line_work(b_y, R, e_star, L, 0.3)
+    assert res.yield_velocity == pytest.approx(math.sqrt(2 * L * w_y / M), rel=1e-12)
+    assert res.yield_approach == pytest.approx(johnson_approach(
+        math.pi * R * (c * STEEL.sigma_y) ** 2 / e_star, e_star, 0.3, L), rel=1e-12)
+
+
+# --- elastic impact -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("V, impactor", [(0.05, None), (2.0, None), (1.0, SLIDER)])
+def test_elastic_impact_conserves_energy_and_matches_the_independent_integration(V, impactor):
+    model = CylinderImpactModel(ELASTIC, L, impactor=impactor)
+    e_star = ELASTIC.reduced_modulus(impactor)
+    d_max, t_c = johnson_impact(V, e_star, 0.3, L)
+    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-12)
+    for res in (fast, timed):
+        assert res.regime == "elastic" and res.residual_depth == 0.0
+        # energy: rebound speed equal to V to 1e-9 (integrator rtol 1e-12)
+        assert res.restitution == pytest.approx(1.0, abs=1e-9)
+        assert 0.5 * M * res.rebound_velocity**2 == pytest.approx(0.5 * M * V * V, rel=1e-9)
+        assert res.work_loading == pytest.approx(0.5 * M * V * V, rel=1e-9)
+        # oracle: quadrature of Johnson's law in P' with its own root finder, to 1e-8
+        assert res.delta_max == pytest.approx(d_max, rel=1e-8)
+        assert res.contact_time == pytest.approx(t_c, rel=1e-8)
+        assert res.loading_time == pytest.approx(t_c / 2, rel=1e-8)
+    assert fast.contact_half_width == pytest.approx(timed.contact_half_width, rel=1e-9)
+
+
+def test_elastic_contact_time_against_an_explicit_runge_kutta_integration():
+    # a different integrator (RK45, no scaling) on the force from the root finder above
+    V, e_star = 1.0, ELASTIC.plane_strain_modulus
+
+    def rhs(_, y):
+        return [y[1], -L * johnson_load(max(y[0], 0.0), e_star, 0.3, L) / M]
+    sep = lambda t, y: y[0]  # noqa: E731
+    sep.terminal, sep.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, 1e-3), [0.0, V], method="RK45", rtol=1e-10, atol=1e-20,
+                    events=sep, dense_output=True)
+    t_c = sol.t_events[0][0]
+    res = CylinderImpactModel(ELASTIC, L).maxima(V, R, M)
+    assert res.contact_time == pytest.approx(t_c, rel=1e-7)
+    assert res.restitution == pytest.approx(-sol.y_events[0][0][1] / V, abs=1e-7)
+
+
+# --- elastic-plastic impact ------------------------------------------------------------------
+
+@pytest.mark.parametrize("V", [2.0, 10.0])
+def test_plastic_impact_dissipates_and_both_paths_agree(V):
+    model = CylinderImpactModel(STEEL, L)
+    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-11)
+    for res in (fast, timed):
+        assert res.regime == "fully plastic"
+        assert 0.0 < res.restitution < 1.0
+        assert 0.0 < res.residual_depth < res.delta_max
+        assert res.dissipated == pytest.approx(res.work_loading - res.work_unloading, rel=1e-14)
+        assert res.dissipated > 0
+        # energy in = loading work; energy out = elastic work returned
+        assert res.work_loading == pytest.approx(0.5 * M * V * V, rel=1e-8)
+        assert 0.5 * M * res.rebound_velocity**2 == pytest.approx(res.work_unloading, rel=1e-8)
+        assert res.mean_pressure_max == pytest.approx(FULLY_PLASTIC_FACTOR * STEEL.sigma_y,
+                                                      rel=1e-12)
+    for key in ("delta_max", "contact_time", "restitution", "residual_depth",
+                "contact_half_width", "force_max"):
+        assert getattr(fast, key) == pytest.approx(getattr(timed, key), rel=1e-7), key
+
+
+def test_restitution_is_continuous_at_the_cap():
+    model = CylinderImpactModel(STEEL, L)
+    tables = model.tables(R)
+    v_cap = math.sqrt(2 * L * model.work(0.0, tables.b_plastic, R, tables) / M)
+    below, above = (model.maxima(v_cap * f, R, M) for f in (1 - 1e-6, 1 + 1e-6))
+    assert below.restitution == 1.0 and below.regime == "contained plastic"
+    assert above.restitution == pytest.approx(1.0, abs=1e-5)
+    assert above.residual_depth < 1e-5 * above.delta_max
+
+
+# --- layered targets --------------------------------------------------------------------------
+
+def test_film_equal_to_substrate_gives_the_homogeneous_answer():
+    # a StackProfile keeps the layered path (quadrature, root finding) that a homogeneous
+    # LayerStack would skip
+    stack = StackProfile(LayerStack([Layer(20e-6, STEEL)], STEEL))
+    for V in (0.5, 5.0):
+        ref = CylinderImpactModel(STEEL, L).maxima(V, R, M)
+        model = CylinderImpactModel(stack, L)
+        for res in (model.maxima(V, R, M), model.history(V, R, M)):
+            for key in ("delta_max", "contact_time", "restitution", "residual_depth",
+                        "yield_velocity"):
+                assert getattr(res, key) == pytest.approx(getattr(ref, key), rel=1e-8), key
+
+
+def test_thick_film_gives_the_film_and_thin_film_the_substrate_answer():
+    film = ElasticPlastic(E=100e9, nu=0.25, sigma_y=0.5e9, name="film")
+    V = 3.0
+    cases = ((LayerStack([Layer(0.1, film)], STEEL), film),      # t/b ~ 2e3
+             (LayerStack([Layer(1e-9, film)], STEEL), STEEL))    # t/b ~ 2e-5
+    for stack, alone in cases:
+        ref = CylinderImpactModel(alone, L).maxima(V, R, M)
+        res = CylinderImpactModel(stack, L).maxima(V, R, M)
+        # Gao weights depart from 0 or 1 by O(t/b) or O(b/t): 1e-3 at these ratios
+        for key in ("delta_max", "contact_time", "restitution", "residual_depth"):
+            assert getattr(res, key) == pytest.approx(getattr(ref, key), rel=2e-3), key
+
+
+def test_layered_paths_agree():
+    stack = LayerStack([Layer(30e-6, ElasticPlastic(E=120e9, nu=0.25, sigma_y=0.8e9))], STEEL)
+    model = CylinderImpactModel(stack, L)
+    fast, timed = model.maxima(4.0, R, M), model.history(4.0, R, M)
+    for key in ("delta_max", "contact_time", "restitution", "residual_depth"):
+        assert getattr(fast, key) == pytest.approx(getattr(timed, key), rel=1e-8), key
+
+
+# --- inputs and range -------------------------------------------------------------------------
+
+def test_inputs_are_checked():
+    with pytest.raises(InputError, match="length"):
+        CylinderImpactModel(STEEL, 0.0)
+    with pytest.raises(InputError, match="datum_depth"):
+        CylinderImpactModel(STEEL, L, datum_depth=-1.0)
+    with pytest.raises(InputError, match="mass"):     # lighter than the cylinder itself
+        CylinderImpactModel(STEEL, L).maxima(1.0, R, 1e-12)
+    with pytest.raises(ModelRangeError, match="half-width"):
+        CylinderImpactModel(STEEL, L, datum_depth=1e-4).maxima(100.0, R, M)
+
+
+def test_result_is_jsonable_and_says_cylinder():
+    res = CylinderImpactModel(STEEL, L).maxima(2.0, R, M)
+    out = res.to_dict()
+    assert out["shape"] == "cylinder" and out["contact_half_width"] > 0
+    assert "cylinder" in res.summary() and "end effects" in res.summary()

@@ -45,13 +45,13 @@ from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 from scipy.special import lambertw
 
-from filmscale.continuum.materials import ElasticPlastic, check_plausible, reduced_modulus
+from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
                                    check_choice, check_real)
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
 
-from .profiles import DepthProfile, profile_for
+from .profiles import DepthProfile, checked_bodies
 from .quadrature import integrate
 
 #: p_fp / sigma_Y for a fully plastic line contact: (2 + pi) k with von Mises k = sigma_Y/sqrt(3)
@@ -216,14 +216,7 @@ class CylinderImpactModel:
     datum_depth: float | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "target", profile_for(self.target))
-        for material in self.target.materials():
-            check_plausible(material, material.name or "target")
-        if self.impactor is not None:
-            if not isinstance(self.impactor, ElasticPlastic):
-                raise InputError(f"impactor must be an ElasticPlastic material or None "
-                                 f"(rigid), got {type(self.impactor).__name__}")
-            check_plausible(self.impactor, self.impactor.name or "impactor")
+        object.__setattr__(self, "target", checked_bodies(self.target, self.impactor))
         length = check_real("length", self.length, low=RADIUS_RANGE[0], high=RADIUS_RANGE[1],
                             low_open=True, unit="m")
         object.__setattr__(self, "length", length)

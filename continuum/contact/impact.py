@@ -33,16 +33,15 @@ from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, STATUS_MESS
                                                  UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE,
                                                  ImpactHistory, ImpactMaxima, ImpactResult,
                                                  exceeds_radius_message)
-from filmscale.continuum.materials import ElasticPlastic, check_plausible, reduced_modulus
+from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
-                                   YIELD_STRAIN_HIGH, check_broadcast, check_choice,
-                                   check_density, check_positive_array, check_real,
-                                   sphere_density)
+                                   YIELD_STRAIN_HIGH, check_broadcast, check_choice, check_density,
+                                   check_positive_array, check_real, sphere_density)
 from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError, ModelRangeError
 
 from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
-from .profiles import DepthProfile, profile_for
+from .profiles import DepthProfile, checked_bodies
 from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
 from .restitution import UNLOADING_MODELS, Unloading, unload
 
@@ -83,14 +82,7 @@ class ImpactModel:
                 self.quadrature_nodes or not 4 <= self.quadrature_nodes <= 64):
             raise InputError(f"quadrature_nodes = {self.quadrature_nodes!r} must be an integer "
                              f"in [4, 64]")
-        object.__setattr__(self, "target", profile_for(self.target))
-        for material in self.target.materials():
-            check_plausible(material, material.name or "target")
-        if self.impactor is not None:
-            if not isinstance(self.impactor, ElasticPlastic):
-                raise InputError(f"impactor must be an ElasticPlastic material or None "
-                                 f"(rigid), got {type(self.impactor).__name__}")
-            check_plausible(self.impactor, self.impactor.name or "impactor")
+        object.__setattr__(self, "target", checked_bodies(self.target, self.impactor))
         if not isinstance(self.law, ContactLaw):
             raise InputError(f"law must be a ContactLaw, got {type(self.law).__name__}")
         check_choice("unloading", self.unloading, ("auto",) + UNLOADING_MODELS)

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from filmscale.continuum.materials import DIAMOND, ElasticPlastic, LayerStack
+from filmscale.continuum.materials import DIAMOND, ElasticPlastic, LayerStack, check_plausible
 from filmscale.core.checks import check_indent_depths, check_modulus, check_positive, check_real
 from filmscale.core.errors import InputError
 
@@ -285,3 +285,17 @@ def profile_for(target) -> DepthProfile:
         return UniformProfile(target.substrate) if target.is_homogeneous else StackProfile(target)
     raise InputError(f"target must be a material, a layer stack or a depth profile, "
                      f"got {type(target).__name__}")
+
+
+def checked_bodies(target, impactor) -> DepthProfile:
+    """The target as a profile, with every material of target and impactor checked for
+    plausibility (`check_plausible`); ``impactor`` is an ElasticPlastic or None (rigid)."""
+    profile = profile_for(target)
+    for material in profile.materials():
+        check_plausible(material, material.name or "target")
+    if impactor is not None:
+        if not isinstance(impactor, ElasticPlastic):
+            raise InputError(f"impactor must be an ElasticPlastic material or None "
+                             f"(rigid), got {type(impactor).__name__}")
+        check_plausible(impactor, impactor.name or "impactor")
+    return profile

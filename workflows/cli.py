@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale import __version__
-from filmscale.continuum.contact.impact_map import MAP_FIELDS, axis, impact_map
+from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
 from filmscale.continuum.contact.oblique import oblique_map
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
@@ -69,6 +69,10 @@ def _extreme(reduce, values) -> float:
 
 HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radius [m], "
                   "mean_pressure [Pa], phase, branch")
+#: a cylinder's line contact has a half-width, not a radius
+CYLINDER_HISTORY_HEADER = HISTORY_HEADER.replace("contact_radius", "contact_half_width")
+#: either history may replace the other without --force
+HISTORY_KIND = text_kind((HISTORY_HEADER, CYLINDER_HISTORY_HEADER), "an impact history")
 PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
 
 
@@ -79,12 +83,12 @@ def _scene_files(scene: Scene) -> list[tuple[str, Path]]:
             *scene_files(Path(scene.source).parent, tomllib.loads(scene.text))]
 
 
-def _history_csv(history, path: Path) -> None:
+def _history_csv(history, size, header: str, path: Path) -> None:
+    """One row per sample; ``size`` is the contact radius or half-width column (m)."""
     data = np.column_stack([history.time, history.delta, history.velocity, history.force,
-                            history.contact_radius, history.mean_pressure, history.phase,
-                            history.branch])
+                            size, history.mean_pressure, history.phase, history.branch])
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, data, delimiter=",", header=HISTORY_HEADER, comments="",
+        np.savetxt(tmp, data, delimiter=",", header=header, comments="",
                    fmt=["%.17g"] * 6 + ["%d", "%d"])
 
 
@@ -101,21 +105,13 @@ def cmd_impact(args) -> int:
     m = option("--mass", args.mass, imp.mass, MASS_RANGE, "kg")
     if imp.shape == "cylinder":
         return _cylinder_impact(args, scene, V, R, m)
-    output_path("--history", args.history)
-    plot_path("--plot", args.plot)
-    check_outputs(_scene_files(scene),
-                  [("--history", args.history, text_kind(HISTORY_HEADER, "an impact history")),
-                   ("--plot", args.plot, image_kind(args.plot))], args.force)
+    _check_history_outputs(args, scene)
     model = scene.model()
     want_history = args.history or args.plot or scene.path == "time"
     if want_history:
         history = model.history(V, R, m, rtol=scene.rtol)
         result = history.result
-        if args.history:
-            _history_csv(history, Path(args.history))
-        if args.plot:
-            from .plots import plot_history
-            plot_history(history, args.plot)
+        _write_history(args, history, history.contact_radius, HISTORY_HEADER)
     else:
         result = model.maxima(V, R, m).result(())
     angle = imp.angle if args.angle is None else check_real(
@@ -132,23 +128,46 @@ def cmd_impact(args) -> int:
     return 0
 
 
+def _check_history_outputs(args, scene: Scene) -> None:
+    output_path("--history", args.history)
+    plot_path("--plot", args.plot)
+    check_outputs(_scene_files(scene), [("--history", args.history, HISTORY_KIND),
+                                        ("--plot", args.plot, image_kind(args.plot))],
+                  args.force)
+
+
+def _write_history(args, history, size, header: str) -> None:
+    """The --history table and the --plot of a sphere or cylinder history."""
+    if args.history:
+        _history_csv(history, size, header, Path(args.history))
+    if args.plot:
+        from .plots import plot_history
+        plot_history(history, args.plot)
+
+
 def _cylinder_impact(args, scene: Scene, V, R, m) -> int:
-    """`filmscale impact` on a cylinder scene: the maxima of a normal impact."""
-    for flag, value in (("--history", args.history), ("--plot", args.plot),
-                        ("--angle", args.angle)):
-        if value:
-            raise InputError(f"{flag} applies to sphere impactors: the cylinder model gives "
-                             f"the maxima of a normal impact")
+    """`filmscale impact` on a cylinder scene: a normal impact, its maxima or its history."""
+    if args.angle:
+        raise InputError("--angle applies to sphere impactors: the cylinder model is a "
+                         "normal impact")
+    _check_history_outputs(args, scene)
     model = scene.cylinder_model()
-    result = (model.history(V, R, m, rtol=scene.rtol) if scene.path == "time"
-              else model.maxima(V, R, m))
+    if args.history or args.plot or scene.path == "time":
+        history = model.history(V, R, m, rtol=scene.rtol)
+        result = history.result
+        _write_history(args, history, history.contact_half_width, CYLINDER_HISTORY_HEADER)
+    else:
+        result = model.maxima(V, R, m)
     print(dumps(result.to_dict()) if args.json else result.summary())
     return 0
 
 
 def cmd_impact_map(args) -> int:
     scene: Scene = load_scene(args.scene)
-    scene.require_sphere()      # the cylinder model has no vectorised fast path
+    cylinder = scene.impactor.shape == "cylinder"
+    if cylinder and args.angle is not None:
+        raise InputError("--angle maps oblique sphere impacts: a cylinder map is over (V, R) "
+                         "only")
     spec = MapSpec(velocity=args.velocity or scene.map.velocity,
                    radius=args.radius or scene.map.radius,
                    spacing=args.spacing or scene.map.spacing,
@@ -179,8 +198,11 @@ def cmd_impact_map(args) -> int:
     check_outputs(_scene_files(scene),
                   [("--out", args.out, hdf5_kind(IMPACT_MAP_FORMAT, "an impact map")),
                    ("--plot", args.plot, image_kind(args.plot))], args.force)
-    models = {"layered": scene.model()} if scene.layered else {}
-    models["homogeneous"] = scene.substrate_model()
+    if cylinder:
+        models = _cylinder_models(scene)
+    else:
+        models = {"layered": scene.model()} if scene.layered else {}
+        models["homogeneous"] = scene.substrate_model()
     label_of = {"layered": "layered target", "homogeneous": f"{scene.stack.substrate.name} only"}
     start = time.perf_counter()
     maps = {}
@@ -188,8 +210,12 @@ def cmd_impact_map(args) -> int:
         def progress(done, total, key=key):
             print(f"\r{label_of[key]}: {done}/{total} impacts", end="", file=sys.stderr,
                   flush=True)
-        large = oblique or velocity.size * n_rows > 20_000
-        if oblique:
+        # cylinders: one impact at a time, tens of ms each
+        large = oblique or cylinder or velocity.size * n_rows > 20_000
+        if cylinder:
+            maps[key] = cylinder_map(model, velocity, radius, scene.impactor.mass,
+                                     progress=progress)
+        elif oblique:
             maps[key] = oblique_map(model, velocity, radius, scene.impactor.mass, angle,
                                     scene.friction, inertia_factor=scene.impactor.inertia_factor,
                                     rtol=scene.rtol, progress=progress)
@@ -211,15 +237,16 @@ def cmd_impact_map(args) -> int:
                             scene.text)
     if args.plot:
         from .plots import plot_impact_maps
+        what = (f"cylinder L = {scene.impactor.length:g} m" if cylinder else scene.law.name)
         plot_impact_maps({label_of[k]: v for k, v in maps.items()}, args.plot,
-                         title=scene.title or f"{scene.law.name}, m = {scene.impactor.mass:g} kg")
+                         title=scene.title or f"{what}, m = {scene.impactor.mass:g} kg")
     summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
                "points": int(velocity.size * n_rows)}
     for key, mp in maps.items():
         summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
-                        "yielded": int(mp.maxima.yielded.sum())}
+                        "yielded": int(mp.yielded.sum())}
         summary[key].update({f: _extreme(np.max, mp.field(f))
-                             for f in MAP_FIELDS if f != "restitution"})
+                             for f in mp.fields if f != "restitution"})
         summary[key]["restitution_min"] = _extreme(np.min, mp.field("restitution"))
         if oblique:
             e_x = mp.field("restitution_tangential")
@@ -235,8 +262,16 @@ def cmd_impact_map(args) -> int:
             print(f"  {label_of[key]}: largest approach {s['delta_max']:.4g} m, largest mean "
                   f"pressure {s['mean_pressure_max']:.4g} Pa, smallest e_y "
                   f"{s['restitution_min']:.4f}, yielded at {s['yielded']} points, "
-                  f"{s['out_of_range']} points beyond the model's range (approach > R)")
+                  f"{s['out_of_range']} points beyond the model's range "
+                  f"({maps[key].range_limit})")
     return 0
+
+
+def _cylinder_models(scene: Scene) -> dict:
+    """The cylinder model of the full target and of the bare substrate."""
+    models = {"layered": scene.cylinder_model()} if scene.layered else {}
+    models["homogeneous"] = scene.cylinder_model(bare_substrate=True)
+    return models
 
 
 def _window_arg(text: str) -> tuple[float, float]:

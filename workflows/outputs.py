@@ -66,11 +66,14 @@ def hdf5_kind(fmt: str, description: str) -> Kind:
     return Kind(description, lambda path: hdf5_format(path) == fmt)
 
 
-def text_kind(first_line: str, description: str) -> Kind:
-    """A text output recognised by its first line (a CSV header)."""
+def text_kind(first_line: str | tuple[str, ...], description: str) -> Kind:
+    """A text output recognised by its first line (a CSV header), or by any of several."""
+    lines = {line.encode() for line in ((first_line,) if isinstance(first_line, str)
+                                        else first_line)}
+
     def written_before(path: Path) -> bool:
-        line = _head(path, len(first_line.encode()) + 2).split(b"\n")[0].rstrip(b"\r")
-        return line == first_line.encode()
+        size = max(len(line) for line in lines) + 2
+        return _head(path, size).split(b"\n")[0].rstrip(b"\r") in lines
     return Kind(description, written_before)
 
 

@@ -18,8 +18,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm  # noqa: E402
 from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
                                NullFormatter)
+from filmscale.continuum.contact.cylinder import CylinderImpactHistory
 from filmscale.continuum.contact.impact import ImpactHistory
-from filmscale.continuum.contact.impact_map import ImpactMap, MAP_FIELDS
+from filmscale.continuum.contact.impact_map import CylinderMap, ImpactMap
 from filmscale.core.files import atomic_path
 
 
@@ -33,6 +34,7 @@ DISPLAY = {
     "mean_pressure_max": ("maximum mean pressure", "GPa", 1e-9),
     "force_max": ("maximum force", "mN", 1e3),
     "contact_radius_max": ("maximum contact radius", "µm", 1e6),
+    "contact_half_width": ("maximum contact half-width", "µm", 1e6),
     "contact_time": ("contact time", "µs", 1e6),
     "residual_depth": ("residual depth", "nm", 1e9),
     "restitution": ("restitution coefficient e_y", "-", 1.0),
@@ -75,7 +77,8 @@ def _colorbar(fig, mappable, axes, label, norm):
     cb.set_label(label)
 
 
-def _style_axes(ax, m: ImpactMap, first_row: bool, last_row: bool, first_col: bool, title):
+def _style_axes(ax, m: ImpactMap | CylinderMap, first_row: bool, last_row: bool,
+                first_col: bool, title):
     if m.velocity[-1] / m.velocity[0] > 20:
         ax.set_xscale("log")
     if m.radius[-1] / m.radius[0] > 20:
@@ -95,13 +98,15 @@ def _save(fig, path) -> Path:
     return Path(path)
 
 
-def plot_impact_maps(maps: dict[str, ImpactMap], path, fields=tuple(MAP_FIELDS),
+def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None,
                      title: str = "") -> Path:
-    """Contour plots of ``fields`` (rows) for each labelled map (columns), saved to ``path``.
+    """Contour plots of ``fields`` (rows; None: the maps' own, MAP_FIELDS for spheres) for
+    each labelled map (columns), saved to ``path``.
 
     With two maps a third column shows their ratio (first / second): where the film matters.
     """
     labels = list(maps)
+    fields = tuple(maps[labels[0]].fields) if fields is None else fields
     ratio = len(labels) == 2
     rows, cols = len(fields), len(labels) + ratio
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows),
@@ -119,7 +124,7 @@ def plot_impact_maps(maps: dict[str, ImpactMap], path, fields=tuple(MAP_FIELDS),
             if levels is not None and np.isfinite(z).any():
                 filled = ax.contourf(V, R, z, levels=levels, norm=norm, cmap="viridis",
                                      extend="both")
-            yielded = m.maxima.yielded.astype(float)
+            yielded = m.yielded.astype(float)
             if 0 < yielded.mean() < 1:
                 ax.contour(V, R, yielded, levels=[0.5], colors="w", linestyles="--",
                            linewidths=1.0)
@@ -143,19 +148,27 @@ def plot_impact_maps(maps: dict[str, ImpactMap], path, fields=tuple(MAP_FIELDS),
             _hatch_out_of_range(ax, V, R, m)
             _style_axes(ax, m, r == 0, r == rows - 1, False, f"{labels[0]} / {labels[1]}")
     if title:
-        fig.suptitle(f"{title}\ndashed: first yield; hatched: approach would exceed R "
+        fig.suptitle(f"{title}\ndashed: first yield; hatched: {maps[labels[0]].range_limit} "
                      f"(not computed); blank residual depth: no crater")
     return _save(fig, path)
 
 
-def _hatch_out_of_range(ax, V, R, m: ImpactMap):
+def _hatch_out_of_range(ax, V, R, m: ImpactMap | CylinderMap):
     out = m.out_of_range.astype(float)
     if out.any():
         ax.contourf(V, R, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
 
 
-def plot_history(history: ImpactHistory, path, title: str = "") -> Path:
-    """Force against approach, and approach and force against time, of one impact."""
+def plot_history(history: ImpactHistory | CylinderImpactHistory, path, title: str = "") -> Path:
+    """Force against approach, and approach and force against time, of one impact of a
+    sphere or a cylinder."""
+    res = history.result
+    if isinstance(history, CylinderImpactHistory):
+        # a line contact's approach is measured from the datum depth d
+        approach = f"approach δ from d = {res.datum_depth * 1e3:.3g} mm (nm)"
+        what = f"cylinder L = {res.length * 1e3:.3g} mm"
+    else:
+        approach, what = "approach δ (nm)", res.contact_law
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     contact = history.phase > 0
     t_us = history.time[contact] * 1e6
@@ -164,17 +177,16 @@ def plot_history(history: ImpactHistory, path, title: str = "") -> Path:
     load = history.phase[contact] == 1
     ax1.plot(d_nm[load], f_mn[load], label="loading")
     ax1.plot(d_nm[~load], f_mn[~load], label="unloading")
-    ax1.set_xlabel("approach δ (nm)")
+    ax1.set_xlabel(approach)
     ax1.set_ylabel("force P (mN)")
     ax1.legend()
     ax2.plot(t_us, d_nm, color="C0")
     ax2.set_xlabel("time (µs)")
-    ax2.set_ylabel("approach δ (nm)", color="C0")
+    ax2.set_ylabel(approach, color="C0")
     ax3 = ax2.twinx()
     ax3.plot(t_us, f_mn, color="C3")
     ax3.set_ylabel("force P (mN)", color="C3")
-    res = history.result
-    fig.suptitle(title or f"{res.contact_law}: V = {res.velocity:.3g} m/s, "
+    fig.suptitle(title or f"{what}: V = {res.velocity:.3g} m/s, "
                  f"R = {res.radius * 1e6:.3g} µm, e_y = {res.restitution:.4f}")
     return _save(fig, path)
 

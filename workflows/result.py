@@ -11,8 +11,8 @@ import h5py
 import numpy as np
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
-from filmscale.continuum.contact.impact import STATUS_MESSAGES, ImpactMaxima
-from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.continuum.contact.impact import ImpactMaxima
+from filmscale.continuum.contact.impact_map import CYLINDER_UNITS, CylinderMap, ImpactMap
 from filmscale.continuum.contact.oblique import OBLIQUE_FIELDS
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.core.errors import InputError
@@ -88,14 +88,17 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
 IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
 
 
-def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
+def write_impact_maps(path, maps: dict[str, ImpactMap | CylinderMap], models: dict[str, dict],
                       provenance: dict[str, str], scene_text: str = "") -> Path:
-    """One file holding impact maps on shared axes: /velocity, /radius, one group per label
-    (e.g. "layered", "homogeneous") with a dataset per result field, and the scene text."""
+    """One file holding impact maps of one impactor shape on shared axes: /velocity,
+    /radius, one group per label (e.g. "layered", "homogeneous") with a dataset per result
+    field, and the scene text; the root attribute ``shape`` says "sphere" or "cylinder"."""
     labels = list(maps)
     first = maps[labels[0]]
+    units = {**ImpactMaxima.UNITS, **OBLIQUE_FIELDS, **CYLINDER_UNITS, "angle": "degrees"}
     with atomic_h5(path) as f:
         f.attrs["format"] = IMPACT_MAP_FORMAT
+        f.attrs["shape"] = first.shape
         for key, value in provenance.items():
             f.attrs[key] = value
         f.create_dataset("scene", data=scene_text)
@@ -104,6 +107,8 @@ def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
                 ImpactMaxima.UNITS[name])
         f.attrs["mass"] = first.mass
         f.attrs["mass_units"] = "kg"
+        if isinstance(first, CylinderMap):
+            f.attrs["length"], f.attrs["length_units"] = first.length, "m"
         for label in labels:
             g = f.create_group(label)
             fields = maps[label].to_dict()
@@ -111,10 +116,9 @@ def write_impact_maps(path, maps: dict[str, ImpactMap], models: dict[str, dict],
                 if key in ("velocity", "radius", "mass"):
                     continue
                 ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
-                ds.attrs["units"] = {**ImpactMaxima.UNITS, **OBLIQUE_FIELDS,
-                                     "angle": "degrees"}.get(key, "1")
-            g.attrs["regime_names"] = dumps(list(maps[label].maxima.regime_names))
-            g.attrs["status_codes"] = dumps(STATUS_MESSAGES)
+                ds.attrs["units"] = units.get(key, "1")
+            g.attrs["regime_names"] = dumps(list(maps[label].regime_names))
+            g.attrs["status_codes"] = dumps(maps[label].status_messages)
             g.attrs["model"] = dumps(models.get(label, {}))
     return Path(path)
 

@@ -153,18 +153,25 @@ class Scene:
         self.require_sphere()
         return ImpactModel(self._target(), self.law, self.impactor.material, self.unloading)
 
-    def cylinder_model(self) -> CylinderImpactModel:
-        """The line-contact model (docs/physics.md section 6) of a cylinder scene."""
+    def cylinder_model(self, bare_substrate: bool = False) -> CylinderImpactModel:
+        """The line-contact model (docs/physics.md section 6) of a cylinder scene; with
+        ``bare_substrate``, of the substrate alone (see `substrate_model`)."""
         imp = self.impactor
-        return CylinderImpactModel(self._target(), imp.length, imp.material, imp.datum_depth)
+        target = self._bare_substrate() if bare_substrate else self._target()
+        return CylinderImpactModel(target, imp.length, imp.material, imp.datum_depth)
 
     def substrate_model(self) -> ImpactModel:
         """The same impact on the bare substrate (the homogeneous reference)."""
         self.require_sphere()
+        return ImpactModel(self._bare_substrate(), self.law, self.impactor.material,
+                           self.unloading)
+
+    def _bare_substrate(self):
+        """The substrate without its layers, with its own size effect (the last h*)."""
         target = self.stack.substrate
         if self.h_star and self.h_star[-1] > 0:
             target = StackProfile(LayerStack((), target), (self.h_star[-1],))
-        return ImpactModel(target, self.law, self.impactor.material, self.unloading)
+        return target
 
 
 def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> TableProfile:

@@ -32,13 +32,14 @@ weights). The impactor's compliance enters through E* only.
 
 Two solution paths, which must agree: `CylinderImpactModel.maxima` (energy quadrature,
 m V^2/2 = integral_0^delta_max P d(delta), times by quadrature of d(delta)/v) and
-`CylinderImpactModel.history` (solve_ivp with terminal directional events). SI units.
+`CylinderImpactModel.history` (solve_ivp with terminal directional events, and sampled
+histories). SI units.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import quad, solve_ivp
@@ -418,14 +419,29 @@ class CylinderImpactModel:
 
     # --- time-integrated path ------------------------------------------------------------------
 
-    def history(self, velocity, radius, mass, *, rtol=1e-10,
-                method="DOP853") -> CylinderImpactResult:
+    def history(self, velocity, radius, mass, *, rtol=1e-10, samples=400,
+                method="DOP853") -> CylinderImpactHistory:
         """One impact integrated in time: m d2(delta)/dt2 = -L P'(delta) with terminal,
         directional events for maximum approach, the fully plastic cap, the range limit and
-        separation. Absolute tolerance 1e-3 rtol on the scaled state."""
+        separation.
+
+        Parameters
+        ----------
+        velocity, radius, mass : float
+            V (m/s), R (m), m (kg).
+        rtol : float
+            Relative tolerance of the integrator (absolute tolerance 1e-3 rtol on the scaled
+            state).
+        samples : int
+            Points of dense output per phase in the returned histories.
+        method : str
+            A `scipy.integrate.solve_ivp` method.
+        """
         V, R, m = self._inputs(velocity, radius, mass)
         rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
         check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+            raise InputError(f"samples = {samples!r} must be an integer >= 2")
         tables = self.tables(R)
         L = self.length
         # scales: the elastic impact against the surface's properties
@@ -438,10 +454,10 @@ class CylinderImpactModel:
                  if surface_work(tables.b_limit) > energy else tables.b_limit)
         d_ref = float(line_approach(b_ref, R, self.datum_depth, nu0))
         t_ref, accel = d_ref / V, d_ref * L / (m * V * V)
-        options = dict(method=method, rtol=rtol, atol=rtol * 1e-3)
+        options = dict(method=method, rtol=rtol, atol=rtol * 1e-3, dense_output=True)
 
-        def event(fun, direction):
-            fun.terminal, fun.direction = True, direction
+        def event(fun, direction, terminal=True):
+            fun.terminal, fun.direction = terminal, direction
             return fun
 
         d_limit = float(self.approach(tables.b_limit, R))
@@ -453,40 +469,112 @@ class CylinderImpactModel:
         limits = [d_limit]
         if tables.b_plastic < tables.b_limit:
             limits.insert(0, float(self.approach(tables.b_plastic, R)))
+        # first yield changes no law: a non-terminal event only dates it
+        y_yield = (float(self.approach(tables.b_yield, R)) / d_ref
+                   if tables.b_yield < tables.b_limit else math.inf)
+        pieces, events = [], {"contact": 0.0}   # pieces: (dense solution, phase, t_a, t_b)
         y0, t0 = np.array([0.0, 1.0]), 0.0
         for limit in limits:      # the cap's kink is a stop, so no step straddles it
             sol = solve_ivp(loading, (t0, t0 + _T_BOUND), y0, **options,
                             events=[event(lambda t, y: y[1], -1),
-                                    event(lambda t, y, x=limit / d_ref: y[0] - x, 1)])
-            hit = [k for k, te in enumerate(sol.t_events) if te.size]
+                                    event(lambda t, y, x=limit / d_ref: y[0] - x, 1),
+                                    event(lambda t, y: y[0] - y_yield, 1, terminal=False)])
+            hit = [k for k in (0, 1) if sol.t_events[k].size]
             if not hit:
                 raise ModelRangeError(f"time integration stopped without an event: "
                                       f"{sol.message}")
             i = min(hit, key=lambda k: sol.t_events[k][0])
+            pieces.append((sol, 1, t0, sol.t_events[i][0]))
+            if sol.t_events[2].size:
+                events[f"regime {REGIME_NAMES[1]}"] = float(sol.t_events[2][0] * t_ref)
             t0, y0 = sol.t_events[i][0], sol.y_events[i][0]
             if i == 0:
                 break
+            events[f"regime {REGIME_NAMES[2]}"] = float(t0 * t_ref)
         else:
             raise self._range_error(V, R, m, tables)
+        events["maximum approach"] = float(t0 * t_ref)
         b_max, t_load = self.half_width(y0[0] * d_ref, R, tables), t0 * t_ref
         unl = self._unloading(b_max, R, tables)
         residual = 0.0 if unl is None else unl[3]
         if unl is None:
             unloading = loading
+
+            def unloading_width(delta):
+                return np.array([self.half_width(min(x, d_limit), R, tables) for x in delta])
+
+            def unloading_load(b):
+                return self.line_load(b, R, tables)
         else:
             r_new, e_star, nu = unl[:3]
 
+            def unloading_width(delta):
+                return line_half_width(delta - residual, r_new, self.datum_depth, nu)
+
+            def unloading_load(b):
+                return line_load(b, r_new, e_star)
+
             def unloading(_, y):
-                b = float(line_half_width(y[0] * d_ref - residual, r_new, self.datum_depth,
-                                          nu))
-                return [y[1], -float(line_load(b, r_new, e_star)) * accel]
+                b = float(unloading_width(y[0] * d_ref))
+                return [y[1], -float(unloading_load(b)) * accel]
         sol = solve_ivp(unloading, (t0, t0 + _T_BOUND), y0, **options,
                         events=[event(lambda t, y: y[0] - residual / d_ref, -1)])
         if not sol.t_events[0].size:
             raise ModelRangeError(f"time integration stopped before separation: {sol.message}")
+        pieces.append((sol, 2, t0, sol.t_events[0][0]))
         t_sep, rebound = sol.t_events[0][0] * t_ref, -sol.y_events[0][0][1] * V
-        return self._result(V, R, m, b_max, tables, t_load, t_sep - t_load, rebound,
-                            "time-integration")
+        events["separation"] = float(t_sep)
+        result = self._result(V, R, m, b_max, tables, t_load, t_sep - t_load, rebound,
+                              "time-integration")
+
+        time, delta, vel, phase = [], [], [], []
+        for sol_k, ph, t_a, t_b in pieces:
+            steps = sol_k.t[(sol_k.t >= t_a) & (sol_k.t <= t_b)]
+            ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
+            ys = sol_k.sol(ts)
+            time.append(ts * t_ref)
+            delta.append(ys[0] * d_ref)
+            vel.append(ys[1] * V)
+            phase.append(np.full(ts.size, ph))
+        time, delta, vel, phase = map(np.concatenate, (time, delta, vel, phase))
+        load = phase == 1
+        width = np.empty_like(delta)
+        # dense output overshoots the events by round-off: keep delta inside the laws' range
+        width[load] = [self.half_width(min(max(x, 0.0), d_limit), R, tables)
+                       for x in delta[load]]
+        width[~load] = unloading_width(np.maximum(delta[~load], residual))
+        line = np.where(load, self.line_load(width, R, tables), unloading_load(width))
+        branch = np.where(load, np.where(width >= tables.b_plastic, 2,
+                                         (width >= tables.b_yield).astype(int)),
+                          REGIME_NAMES.index(result.regime))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mean_p = np.where(width > 0, line / (2.0 * width), 0.0)
+        return CylinderImpactHistory(
+            result=result, time=time, delta=delta, velocity=vel, force=L * line,
+            contact_half_width=width, mean_pressure=mean_p, branch=branch, phase=phase,
+            events=events, nfev=sum(p[0].nfev for p in pieces))
+
+
+@dataclass(frozen=True)
+class CylinderImpactHistory:
+    """Time-integrated cylinder impact: the maxima plus sampled histories (SI units).
+
+    ``phase`` is 1 loading, 2 unloading (contact starts at t = 0); ``branch`` indexes
+    REGIME_NAMES: the regime of each loading sample, the regime at maximum approach while
+    unloading.
+    """
+
+    result: CylinderImpactResult
+    time: np.ndarray                #: s
+    delta: np.ndarray               #: approach from the datum, m
+    velocity: np.ndarray            #: d(delta)/dt, m/s
+    force: np.ndarray               #: total force L P', N
+    contact_half_width: np.ndarray  #: b, m
+    mean_pressure: np.ndarray       #: P'/(2b), Pa
+    branch: np.ndarray
+    phase: np.ndarray
+    events: dict = field(default_factory=dict)  #: event name -> time, s
+    nfev: int = 0                   #: right-hand-side evaluations of the integrator
 
 
 def _turning_integrand(u, b_turn, slope, slope_turn, left, load_turn, scale):

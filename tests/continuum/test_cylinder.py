@@ -9,11 +9,13 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
+from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 
 from filmscale.continuum.contact.cylinder import (FULLY_PLASTIC_FACTOR, CylinderImpactModel,
                                                   cylinder_yield_factor, line_approach,
                                                   line_half_width, line_work)
+from filmscale.continuum.contact.impact_map import CYLINDER_UNITS, cylinder_map
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.errors import InputError, ModelRangeError
@@ -113,7 +115,7 @@ def test_elastic_impact_conserves_energy_and_matches_the_independent_integration
     model = CylinderImpactModel(ELASTIC, L, impactor=impactor)
     e_star = ELASTIC.reduced_modulus(impactor)
     d_max, t_c = johnson_impact(V, e_star, 0.3, L)
-    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-12)
+    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-12).result
     for res in (fast, timed):
         assert res.regime == "elastic" and res.residual_depth == 0.0
         # energy: rebound speed equal to V to 1e-9 (integrator rtol 1e-12)
@@ -148,7 +150,7 @@ def test_elastic_contact_time_against_an_explicit_runge_kutta_integration():
 @pytest.mark.parametrize("V", [2.0, 10.0])
 def test_plastic_impact_dissipates_and_both_paths_agree(V):
     model = CylinderImpactModel(STEEL, L)
-    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-11)
+    fast, timed = model.maxima(V, R, M), model.history(V, R, M, rtol=1e-11).result
     for res in (fast, timed):
         assert res.regime == "fully plastic"
         assert 0.0 < res.restitution < 1.0
@@ -184,7 +186,7 @@ def test_film_equal_to_substrate_gives_the_homogeneous_answer():
     for V in (0.5, 5.0):
         ref = CylinderImpactModel(STEEL, L).maxima(V, R, M)
         model = CylinderImpactModel(stack, L)
-        for res in (model.maxima(V, R, M), model.history(V, R, M)):
+        for res in (model.maxima(V, R, M), model.history(V, R, M).result):
             for key in ("delta_max", "contact_time", "restitution", "residual_depth",
                         "yield_velocity"):
                 assert getattr(res, key) == pytest.approx(getattr(ref, key), rel=1e-8), key
@@ -206,7 +208,7 @@ def test_thick_film_gives_the_film_and_thin_film_the_substrate_answer():
 def test_layered_paths_agree():
     stack = LayerStack([Layer(30e-6, ElasticPlastic(E=120e9, nu=0.25, sigma_y=0.8e9))], STEEL)
     model = CylinderImpactModel(stack, L)
-    fast, timed = model.maxima(4.0, R, M), model.history(4.0, R, M)
+    fast, timed = model.maxima(4.0, R, M), model.history(4.0, R, M).result
     for key in ("delta_max", "contact_time", "restitution", "residual_depth"):
         assert getattr(fast, key) == pytest.approx(getattr(timed, key), rel=1e-8), key
 
@@ -229,3 +231,97 @@ def test_result_is_jsonable_and_says_cylinder():
     out = res.to_dict()
     assert out["shape"] == "cylinder" and out["contact_half_width"] > 0
     assert "cylinder" in res.summary() and "end effects" in res.summary()
+
+
+# --- sampled histories --------------------------------------------------------------------------
+
+def test_elastic_history_conserves_energy_and_is_symmetric():
+    V, rtol = 1.0, 1e-10
+    model = CylinderImpactModel(ELASTIC, L)
+    hist = model.history(V, R, M, rtol=rtol)
+    e_star = ELASTIC.plane_strain_modulus
+    # oracle: the closed-form work W(b) of the elastic law at each sample's half-width,
+    # and delta(b) from the law itself; dense output of DOP853 at rtol 1e-10 keeps both
+    # within 1e-8 of the impact energy and the sampled approach
+    energy = 0.5 * M * hist.velocity**2 + L * line_work(hist.contact_half_width, R, e_star, L,
+                                                         0.3)
+    assert np.max(np.abs(energy / (0.5 * M * V * V) - 1.0)) < 1e-8
+    assert np.allclose(line_approach(hist.contact_half_width, R, L, 0.3), hist.delta,
+                       rtol=1e-12, atol=1e-12 * hist.delta.max())
+    res = hist.result
+    assert res.loading_time == pytest.approx(res.unloading_time, rel=100 * rtol)
+    assert hist.events["maximum approach"] == pytest.approx(res.loading_time, rel=1e-15)
+    assert hist.events["separation"] == pytest.approx(res.contact_time, rel=1e-15)
+    # time symmetry: delta(t_max - s) = delta(t_max + s), the loading side interpolated
+    # between its samples by cubic Hermite on (delta, velocity)
+    t_max = hist.events["maximum approach"]
+    load, unload = hist.phase == 1, hist.phase == 2
+    spline = CubicHermiteSpline(hist.time[load], hist.delta[load], hist.velocity[load])
+    mirrored = spline(t_max - (hist.time[unload] - t_max))
+    assert np.max(np.abs(mirrored - hist.delta[unload])) < 1e-8 * res.delta_max
+    assert np.all(hist.branch == 0) and hist.time[0] == 0.0
+
+
+@pytest.mark.parametrize("material, V", [(ELASTIC, 1.0), (STEEL, 0.3), (STEEL, 5.0)])
+def test_history_maxima_equal_the_maxima_path(material, V):
+    rtol = 1e-10
+    model = CylinderImpactModel(material, L)
+    hist, fast = model.history(V, R, M, rtol=rtol), model.maxima(V, R, M)
+    # the sampled extremes fall on the event at maximum approach: within 100 rtol
+    for key, sampled in (("delta_max", hist.delta), ("force_max", hist.force),
+                         ("contact_half_width", hist.contact_half_width),
+                         ("mean_pressure_max", hist.mean_pressure)):
+        assert np.max(sampled) == pytest.approx(getattr(fast, key), rel=100 * rtol), key
+        assert getattr(hist.result, key) == pytest.approx(getattr(fast, key), rel=100 * rtol)
+    for key in ("contact_time", "restitution", "residual_depth"):
+        assert getattr(hist.result, key) == pytest.approx(getattr(fast, key), rel=1e-7), key
+    # the mean pressure is P'/(2b) at every sample in contact
+    inside = hist.contact_half_width > 0
+    assert np.allclose(hist.mean_pressure[inside] * 2 * L * hist.contact_half_width[inside],
+                       hist.force[inside], rtol=1e-14)
+    assert hist.branch.max() == ("elastic", "contained plastic",
+                                 "fully plastic").index(fast.regime)
+
+
+def test_plastic_history_unloads_to_the_residual_depth():
+    model = CylinderImpactModel(STEEL, L)
+    hist = model.history(5.0, R, M, rtol=1e-10)
+    res = hist.result
+    assert list(hist.events) == ["contact", "regime contained plastic",
+                                 "regime fully plastic", "maximum approach", "separation"]
+    assert hist.delta[-1] == pytest.approx(res.residual_depth, rel=1e-9)
+    assert hist.force[-1] == pytest.approx(0.0, abs=1e-9 * res.force_max)
+    assert -hist.velocity[-1] == pytest.approx(res.rebound_velocity, rel=1e-12)
+    # loading branches change where the half-width crosses first yield and the cap
+    tables = model.tables(R)
+    load = hist.phase == 1
+    assert np.array_equal(hist.branch[load],
+                          (hist.contact_half_width[load] >= tables.b_yield).astype(int)
+                          + (hist.contact_half_width[load] >= tables.b_plastic))
+    assert np.all(hist.branch[~load] == 2) and np.all(np.diff(hist.time) >= 0)
+    with pytest.raises(InputError, match="samples"):
+        model.history(5.0, R, M, samples=1)
+
+
+# --- maps -------------------------------------------------------------------------------------
+
+def test_map_values_are_the_single_impacts():
+    model = CylinderImpactModel(STEEL, L, datum_depth=1e-3)      # b <= 2e-4 m: V = 100 is out
+    velocity, radius = np.array([0.2, 3.0, 100.0]), np.array([1e-3, 2e-3])
+    calls = []
+    mp = cylinder_map(model, velocity, radius, M, progress=lambda *a: calls.append(a))
+    assert calls == [(3, 6), (6, 6)]
+    assert mp.out_of_range.tolist() == [[False, False, True], [False, False, True]]
+    for i, R_ in enumerate(radius):
+        for j, V in enumerate(velocity[:2]):
+            res = model.maxima(V, R_, M)
+            for key in CYLINDER_UNITS:          # the same call: exact
+                assert mp.field(key)[i, j] == getattr(res, key), key
+            assert mp.regime_names[mp.regime[i, j]] == res.regime
+            assert mp.yielded[i, j] == res.yielded
+    assert np.isnan(mp.field("delta_max")[:, 2]).all() and (mp.regime[:, 2] == -1).all()
+    assert mp.field("delta_max").shape == (2, 3)
+    with pytest.raises(InputError, match="map field"):
+        mp.field("contact_radius_max")
+    with pytest.raises(InputError, match="lighter than a cylinder"):    # checked at the largest R
+        cylinder_map(model, velocity, [1e-3, 0.5], M)

@@ -52,6 +52,7 @@ from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCI
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
 
+from .impact import sample_pieces
 from .profiles import DepthProfile, checked_bodies
 from .quadrature import integrate
 
@@ -527,16 +528,7 @@ class CylinderImpactModel:
         result = self._result(V, R, m, b_max, tables, t_load, t_sep - t_load, rebound,
                               "time-integration")
 
-        time, delta, vel, phase = [], [], [], []
-        for sol_k, ph, t_a, t_b in pieces:
-            steps = sol_k.t[(sol_k.t >= t_a) & (sol_k.t <= t_b)]
-            ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
-            ys = sol_k.sol(ts)
-            time.append(ts * t_ref)
-            delta.append(ys[0] * d_ref)
-            vel.append(ys[1] * V)
-            phase.append(np.full(ts.size, ph))
-        time, delta, vel, phase = map(np.concatenate, (time, delta, vel, phase))
+        time, delta, vel, phase = sample_pieces(pieces, samples, t_ref, d_ref, V)
         load = phase == 1
         width = np.empty_like(delta)
         # dense output overshoots the events by round-off: keep delta inside the laws' range

@@ -560,18 +560,7 @@ class ImpactModel:
             pieces.append((sol, 2, branch, t0, t_sep))
             events["separation"] = t_sep * t_ref
 
-        time, delta, vel, phase, branch_arr = [], [], [], [], []
-        for sol_k, ph, br, t_a, t_b in pieces:
-            steps = sol_k.t[(sol_k.t >= t_a) & (sol_k.t <= t_b)]
-            ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
-            ys = sol_k.sol(ts)
-            time.append(ts * t_ref)
-            delta.append(ys[0] * d_ref)
-            vel.append(ys[1] * V)
-            phase.append(np.full(ts.size, ph))
-            branch_arr.append(np.full(ts.size, br))
-        time, delta, vel, phase, branch_arr = map(np.concatenate,
-                                                  (time, delta, vel, phase, branch_arr))
+        time, delta, vel, phase, branch_arr = sample_pieces(pieces, samples, t_ref, d_ref, V)
         force = np.zeros_like(delta)
         area = np.zeros_like(delta)
         load = (phase == 1) & (delta > 0)
@@ -623,6 +612,21 @@ class ImpactModel:
         return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
                              contact_radius=np.sqrt(area / np.pi), mean_pressure=mean_p,
                              branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
+
+
+def sample_pieces(pieces, samples: int, t_ref: float, d_ref: float, v_ref: float):
+    """Samples of a time integration in pieces ``(sol, *labels, t_a, t_b)`` (dense-output
+    `solve_ivp` solutions of the scaled approach and velocity): every solver step within
+    [t_a, t_b] plus ``samples`` evenly spaced points. Returns time (s), approach (m) and
+    velocity (m/s), then one array per label, broadcast to the samples."""
+    rows = []
+    for sol, *labels, t_a, t_b in pieces:
+        steps = sol.t[(sol.t >= t_a) & (sol.t <= t_b)]
+        ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
+        ys = sol.sol(ts)
+        rows.append([ts * t_ref, ys[0] * d_ref, ys[1] * v_ref,
+                     *(np.full(ts.size, label) for label in labels)])
+    return tuple(np.concatenate(column) for column in zip(*rows))
 
 
 def _impact_inputs(velocity, radius, mass):

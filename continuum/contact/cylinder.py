@@ -55,6 +55,7 @@ from filmscale.core.jsonable import to_jsonable
 from .impact import sample_pieces
 from .profiles import DepthProfile, checked_bodies
 from .quadrature import integrate
+from .results import rebound_lines
 
 #: p_fp / sigma_Y for a fully plastic line contact: (2 + pi) k with von Mises k = sigma_Y/sqrt(3)
 FULLY_PLASTIC_FACTOR = (2.0 + math.pi) / math.sqrt(3.0)
@@ -83,7 +84,8 @@ def _kappa(nu):
 
 def line_approach(b, R, datum, nu):
     """Elastic approach (m) of a line contact of half-width b (m) on a cylinder of radius R
-    (m), measured from the datum depth d (m): (b^2/(2R)) (ln(2d/b) - nu/(2(1-nu)))."""
+    (m), measured from the datum depth d (m): (b^2/(2R)) (ln(2d/b) - nu/(2(1-nu)))
+    (Johnson 1985, section 5.6; docs/physics.md section 6)."""
     b = np.asarray(b, dtype=float)
     safe = np.where(b > 0, b, 1.0)
     return np.where(b > 0, safe * safe / (2.0 * R) * (np.log(2.0 * datum / safe) - _kappa(nu)),
@@ -91,13 +93,15 @@ def line_approach(b, R, datum, nu):
 
 
 def line_load(b, R, E_star):
-    """Elastic load per unit length (N/m) at half-width b: P' = pi E* b^2/(4R)."""
+    """Elastic load per unit length (N/m) at half-width b (m) on radius R (m), E* (Pa):
+    P' = pi E* b^2/(4R) (Johnson 1985, eq. 4.43)."""
     return np.pi * E_star * np.asarray(b, dtype=float) ** 2 / (4.0 * R)
 
 
 def line_work(b, R, E_star, datum, nu):
     """Elastic work per unit length (J/m) of loading to half-width b, integral P' d(delta):
-    pi E* b^4/(16 R^2) (ln(2d/b) - nu/(2(1-nu)) - 1/4), for constant E* and nu."""
+    pi E* b^4/(16 R^2) (ln(2d/b) - nu/(2(1-nu)) - 1/4), for constant E* and nu: `line_load`
+    integrated by parts against `line_approach` (docs/physics.md section 6)."""
     b = np.asarray(b, dtype=float)
     safe = np.where(b > 0, b, 1.0)
     return np.where(b > 0, np.pi * E_star * safe**4 / (16.0 * R * R)
@@ -161,13 +165,7 @@ class CylinderImpactResult:
             f"({self.line_load_max:.6g} N/m)",
             f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
             f"  contact half-width    {self.contact_half_width:.6g} m",
-            f"  contact time          {self.contact_time:.6g} s "
-            f"(loading {self.loading_time:.4g} s, unloading {self.unloading_time:.4g} s)",
-            f"  residual depth        {self.residual_depth:.6g} m",
-            f"  restitution e_y       {self.restitution:.6f}",
-            f"  regime reached        {self.regime} "
-            f"({'yielded' if self.yielded else 'no yield'}; first yield at "
-            f"V_Y = {self.yield_velocity:.4g} m/s)",
+            *rebound_lines(self),
             f"  approximation         {self.approximation}",
         ]
         lines += [f"  warning: {w}" for w in self.warnings]

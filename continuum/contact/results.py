@@ -28,6 +28,20 @@ STATUS_MESSAGES = {
 }
 
 
+def rebound_lines(result) -> list[str]:
+    """The summary lines an impact result of any shape shares: contact time, residual depth,
+    restitution and the regime reached."""
+    return [
+        f"  contact time          {result.contact_time:.6g} s "
+        f"(loading {result.loading_time:.4g} s, unloading {result.unloading_time:.4g} s)",
+        f"  residual depth        {result.residual_depth:.6g} m",
+        f"  restitution e_y       {result.restitution:.6f}",
+        f"  regime reached        {result.regime} "
+        f"({'yielded' if result.yielded else 'no yield'}; first yield at "
+        f"V_Y = {result.yield_velocity:.4g} m/s)",
+    ]
+
+
 @dataclass(frozen=True)
 class ImpactResult:
     """One impact; SI units. ``status``/``message`` say whether it holds (see STATUS_MESSAGES)."""
@@ -70,13 +84,7 @@ class ImpactResult:
             f"  maximum force         {self.force_max:.6g} N",
             f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
             f"  maximum contact radius {self.contact_radius_max:.6g} m",
-            f"  contact time          {self.contact_time:.6g} s "
-            f"(loading {self.loading_time:.4g} s, unloading {self.unloading_time:.4g} s)",
-            f"  residual depth        {self.residual_depth:.6g} m",
-            f"  restitution e_y       {self.restitution:.6f}",
-            f"  regime reached        {self.regime} "
-            f"({'yielded' if self.yielded else 'no yield'}; first yield at "
-            f"V_Y = {self.yield_velocity:.4g} m/s)",
+            *rebound_lines(self),
         ]
         if self.status != OK:
             lines.append(f"  status: {self.message}")

@@ -38,19 +38,9 @@ from filmscale.md import particle_spec, spec
 from filmscale.md.site import load_site
 from filmscale.workflows.scene import load_pipeline, load_scene
 from filmscale.workflows.sweep import load_sweep
+from tests.workflows.test_scene import MINIMAL
 
-SCENE = """
-[impactor]
-radius = 10e-6
-mass = 1.6e-6
-velocity = 0.2
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-"""
+SCENE = MINIMAL
 TABLE = "h [nm], P [uN]\n1, 2\n2, 5\n3, 9\n"
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
 LIMIT = 4096        # bytes: the size limit the hostile cases run under

@@ -175,8 +175,6 @@ def cmd_impact_map(args) -> int:
                    radius_name="--radius" if args.radius else "map.radius")
     angle = scene.impactor.angle
     if args.angle is not None:      # rows: incidence angles at the scene's radius
-        if args.plot:
-            raise InputError("--plot draws (V, R) maps: leave it out with --angle")
         if spec.velocity is None:
             raise InputError("an impact map needs a velocity range: give --velocity "
                              "MIN:MAX:N or [map] velocity")
@@ -192,8 +190,9 @@ def cmd_impact_map(args) -> int:
     n_rows = np.size(angle) if args.angle is not None else radius.size
     output_path("--out", args.out)
     plot_path("--plot", args.plot)
-    if args.plot and (velocity.size < 2 or radius.size < 2):
-        raise InputError("--plot draws contours: give at least 2 velocities and 2 radii")
+    if args.plot and (velocity.size < 2 or n_rows < 2):
+        rows = "angles" if args.angle is not None else "radii"
+        raise InputError(f"--plot draws contours: give at least 2 velocities and 2 {rows}")
     from .result import IMPACT_MAP_FORMAT
     check_outputs(_scene_files(scene),
                   [("--out", args.out, hdf5_kind(IMPACT_MAP_FORMAT, "an impact map")),

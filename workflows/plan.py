@@ -159,7 +159,7 @@ def _direction_step(outputs, friction: float, angle: float) -> Step:
     if angle > 0 and (friction > 0 or "tangential" in outputs):
         coupled = (f"; above mu = {FRICTION_LIMIT} the normal motion may depend on friction, "
                    "which the model leaves out" if friction >= FRICTION_LIMIT else "")
-        return Step("direction", "oblique impact (Mindlin spring, Coulomb cap, rotation)",
+        return Step("direction", "oblique impact (Mindlin-Deresiewicz by MDR, Coulomb, rotation)",
                     f"angle {angle:g} deg with friction {friction:g}"
                     + (" and tangential outputs asked for" if "tangential" in outputs else "")
                     + ": the tangential velocity and spin change (rule 2)",

@@ -38,7 +38,18 @@ DISPLAY = {
     "contact_time": ("contact time", "µs", 1e6),
     "residual_depth": ("residual depth", "nm", 1e9),
     "restitution": ("restitution coefficient e_y", "-", 1.0),
+    "restitution_tangential": ("tangential restitution e_x", "-", 1.0),
+    "restitution_contact_point": ("contact-point restitution e_c", "-", 1.0),
+    "impulse_ratio": ("impulse ratio J_t/J_n", "-", 1.0),
+    "rebound_angle": ("rebound angle", "deg", 1.0),
+    "spin": ("spin after impact", "rad/s", 1.0),
 }
+#: fields on a linear colour scale (signed or of order one); the others are logarithmic
+LINEAR = {"restitution_tangential", "restitution_contact_point", "impulse_ratio",
+          "rebound_angle", "spin"}
+#: the tangential fields an oblique map adds to the plot
+OBLIQUE_PLOT_FIELDS = ("restitution_tangential", "restitution_contact_point", "rebound_angle",
+                       "spin")
 
 
 def _levels(values: list[np.ndarray], field: str):
@@ -47,6 +58,14 @@ def _levels(values: list[np.ndarray], field: str):
         lo = float(np.min(finite)) if finite.size else 0.0
         lo = min(lo, 0.999)
         return np.linspace(lo, 1.0, 21), Normalize(lo, 1.0)
+    if field in LINEAR:
+        if finite.size == 0:
+            return None, None
+        lo, hi = float(finite.min()), float(finite.max())
+        if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1.0):    # constant: a readable band
+            pad = 0.01 * max(abs(lo), 1.0)
+            lo, hi = lo - pad, hi + pad
+        return np.linspace(lo, hi, 21), Normalize(lo, hi)
     positive = finite[finite > 0]
     if positive.size == 0:
         return None, None
@@ -71,24 +90,38 @@ def _nice_ticks(lo: float, hi: float, log: bool) -> np.ndarray:
 
 def _colorbar(fig, mappable, axes, label, norm):
     cb = fig.colorbar(mappable, ax=axes, shrink=0.95)
-    cb.set_ticks(_nice_ticks(norm.vmin, norm.vmax, isinstance(norm, LogNorm)))
-    cb.ax.yaxis.set_major_formatter(FormatStrFormatter("%.3g"))
+    ticks = _nice_ticks(norm.vmin, norm.vmax, isinstance(norm, LogNorm))
+    cb.set_ticks(ticks)
+    # enough digits that neighbouring ticks differ (a ratio of 0.999-1.001 needs four)
+    digits = next((d for d in range(3, 9) if len({f"{t:.{d}g}" for t in ticks}) == len(ticks)),
+                  9)
+    cb.ax.yaxis.set_major_formatter(FormatStrFormatter(f"%.{digits}g"))
     cb.ax.yaxis.set_minor_formatter(NullFormatter())
     cb.set_label(label)
 
 
+def _rows(m: ImpactMap | CylinderMap) -> tuple[np.ndarray, str, bool]:
+    """The map's row axis for plotting: values, label and whether it is logarithmic. An
+    oblique map over (V, angle) has the incidence angle as rows, any other map the radius."""
+    angle = getattr(m, "angle", None)           # cylinder maps have none
+    if angle is not None and np.ptp(angle) > 0:
+        return angle, "incidence angle (deg)", False
+    return m.radius * 1e6, "radius R (µm)", m.radius[-1] / m.radius[0] > 20
+
+
 def _style_axes(ax, m: ImpactMap | CylinderMap, first_row: bool, last_row: bool,
                 first_col: bool, title):
+    _, label, log = _rows(m)
     if m.velocity[-1] / m.velocity[0] > 20:
         ax.set_xscale("log")
-    if m.radius[-1] / m.radius[0] > 20:
+    if log:
         ax.set_yscale("log")
     if first_row:
         ax.set_title(title)
     if last_row:
         ax.set_xlabel("impact velocity V (m/s)")
     if first_col:
-        ax.set_ylabel("radius R (µm)")
+        ax.set_ylabel(label)
 
 
 def _save(fig, path) -> Path:
@@ -100,13 +133,19 @@ def _save(fig, path) -> Path:
 
 def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None,
                      title: str = "") -> Path:
-    """Contour plots of ``fields`` (rows; None: the maps' own, MAP_FIELDS for spheres) for
-    each labelled map (columns), saved to ``path``.
+    """Contour plots of ``fields`` (rows) for each labelled map (columns), saved to ``path``.
 
-    With two maps a third column shows their ratio (first / second): where the film matters.
+    ``fields`` None: the maps' own (MAP_FIELDS for spheres) and, for an oblique map, its
+    tangential results; a map over (V, angle) shows e_y and the tangential results only (the
+    normal maxima do not depend on the angle). With two maps a third column compares them:
+    their ratio (first / second), or their difference for the signed, linear fields.
     """
     labels = list(maps)
-    fields = tuple(maps[labels[0]].fields) if fields is None else fields
+    first = maps[labels[0]]
+    if fields is None:
+        angle_rows = _rows(first)[1].startswith("incidence")
+        fields = ("restitution",) if angle_rows else tuple(first.fields)
+        fields += OBLIQUE_PLOT_FIELDS if getattr(first, "tangential", None) else ()
     ratio = len(labels) == 2
     rows, cols = len(fields), len(labels) + ratio
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows),
@@ -115,48 +154,56 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
         name, unit, scale = DISPLAY[field]
         data = [maps[lab].field(field) * scale for lab in labels]
         levels, norm = _levels(data, field)
+        linear = field == "restitution" or field in LINEAR
         filled = None
         for c, lab in enumerate(labels):
             ax = axes[r][c]
             m = maps[lab]
-            V, R = np.meshgrid(m.velocity, m.radius * 1e6)
-            z = data[c] if field == "restitution" else np.where(data[c] > 0, data[c], np.nan)
+            V, Y = np.meshgrid(m.velocity, _rows(m)[0])
+            z = data[c] if linear else np.where(data[c] > 0, data[c], np.nan)
             if levels is not None and np.isfinite(z).any():
-                filled = ax.contourf(V, R, z, levels=levels, norm=norm, cmap="viridis",
+                filled = ax.contourf(V, Y, z, levels=levels, norm=norm, cmap="viridis",
                                      extend="both")
             yielded = m.yielded.astype(float)
             if 0 < yielded.mean() < 1:
-                ax.contour(V, R, yielded, levels=[0.5], colors="w", linestyles="--",
+                ax.contour(V, Y, yielded, levels=[0.5], colors="w", linestyles="--",
                            linewidths=1.0)
-            _hatch_out_of_range(ax, V, R, m)
+            _hatch_out_of_range(ax, V, Y, m)
             _style_axes(ax, m, r == 0, r == rows - 1, c == 0, lab)
         if filled is not None:
             _colorbar(fig, filled, list(axes[r][:len(labels)]), f"{name} ({unit})", norm)
         if ratio:
             ax = axes[r][-1]
-            m = maps[labels[0]]
-            V, R = np.meshgrid(m.velocity, m.radius * 1e6)
+            V, Y = np.meshgrid(first.velocity, _rows(first)[0])
+            difference = field in LINEAR
             with np.errstate(divide="ignore", invalid="ignore"):
-                q = np.where(data[1] > 0, data[0] / data[1], np.nan)
+                q = (data[0] - data[1] if difference
+                     else np.where(data[1] > 0, data[0] / data[1], np.nan))
+            centre = 0.0 if difference else 1.0
             finite = q[np.isfinite(q)]
             if finite.size:
-                span = max(abs(finite.max() - 1), abs(1 - finite.min()), 1e-3)
-                rnorm = TwoSlopeNorm(1.0, 1 - span, 1 + span)
-                filled_q = ax.contourf(V, R, q, levels=np.linspace(1 - span, 1 + span, 21),
+                span = max(abs(finite.max() - centre), abs(centre - finite.min()), 1e-3)
+                rnorm = TwoSlopeNorm(centre, centre - span, centre + span)
+                filled_q = ax.contourf(V, Y, q, levels=np.linspace(centre - span,
+                                                                   centre + span, 21),
                                        norm=rnorm, cmap="RdBu_r")
-                _colorbar(fig, filled_q, ax, f"ratio of {name}", rnorm)
-            _hatch_out_of_range(ax, V, R, m)
-            _style_axes(ax, m, r == 0, r == rows - 1, False, f"{labels[0]} / {labels[1]}")
+                _colorbar(fig, filled_q, ax, f"{'difference' if difference else 'ratio'} of "
+                          f"{name}" + (f" ({unit})" if difference else ""), rnorm)
+            _hatch_out_of_range(ax, V, Y, first)
+            _style_axes(ax, first, r == 0, r == rows - 1, False,
+                        f"{labels[0]} {'-' if difference else '/'} {labels[1]}")
     if title:
-        fig.suptitle(f"{title}\ndashed: first yield; hatched: {maps[labels[0]].range_limit} "
-                     f"(not computed); blank residual depth: no crater")
+        blank = ("blank e_x, e_c: no tangential speed (normal incidence)"
+                 if _rows(first)[1].startswith("incidence") else "blank residual depth: no crater")
+        fig.suptitle(f"{title}\ndashed: first yield; hatched: {first.range_limit} "
+                     f"(not computed); {blank}")
     return _save(fig, path)
 
 
-def _hatch_out_of_range(ax, V, R, m: ImpactMap | CylinderMap):
+def _hatch_out_of_range(ax, V, Y, m: ImpactMap | CylinderMap):
     out = m.out_of_range.astype(float)
     if out.any():
-        ax.contourf(V, R, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
+        ax.contourf(V, Y, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
 
 
 def plot_history(history: ImpactHistory | CylinderImpactHistory, path, title: str = "") -> Path:

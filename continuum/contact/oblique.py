@@ -3,22 +3,27 @@
 A sphere (mass m, radius R, moment of inertia I = j m R^2) meets the target with normal speed
 V and tangential speed V_t = V tan(theta), without spin. Equations: docs/physics.md section 5.
 
-Model (Thornton 1997; Wu, Thornton & Li 2009):
+Model (Thornton 1997; Wu, Thornton & Li 2009 for the decoupling; Popov & Hess 2015 for the
+tangential contact):
 
 - The normal motion is the scene's normal impact (`ImpactModel`: its contact law, loading and
   unloading), independent of the tangential force. This is the standard decoupling: the normal
   and tangential problems uncouple exactly for similar materials and nearly so otherwise.
-- Tangential force: the incremental no-slip Mindlin spring dF_t = k_t du_c, k_t = 8 G* a with
-  the contact radius a of the normal law, capped by Coulomb, |F_t| <= mu F_n. Many DEM codes use
-  this rule; Di Renzo & Di Maio (2004, Chem. Eng. Sci. 59:525) found it reproduces the
-  Maw-Barber-Fawcett solution of the full Mindlin-Deresiewicz problem closely, and for a Hertz
-  contact it gives their gross-slip boundary psi_1 = 4 chi - 1 exactly. The load-history rules
-  of Thornton & Yin (1991) are not used.
+- Tangential contact: the Mindlin-Deresiewicz problem (micro-slip at the edge, the history of
+  loading and unloading) solved by the method of dimensionality reduction (MDR; Popov & Hess
+  2015, chapters 3 and 5). The circular contact maps onto a line of independent springs
+  |x| <= a: tangential stiffness 4 G* dx each (all of them stuck: 8 G* a, Mindlin's), normal
+  line load q(x) = (3 F_n / (4 a^3)) (a^2 - x^2) (Hertz's; for an elastic-plastic law the
+  same shape with that law's F_n and a, an approximation), each spring obeying Coulomb's law
+  |f(x)| <= mu q(x) dx on its own, and a spring that leaves the contact losing its force. For
+  a Hertz contact this is the exact Mindlin-Deresiewicz solution for any history (Popov & Hess
+  2015), so it gives Maw, Barber & Fawcett's curves, including the reversal of the contact
+  point at small angles, and their gross-slip boundary psi_1 = 4 chi - 1.
 - Sign convention: x along the incident tangential velocity; omega > 0 is forward rolling, so
   the contact point slides at v_c = v_x - R omega; F_t > 0 acts on the sphere along -x:
   m dv_x/dt = -F_t, I d(omega)/dt = R F_t.
-- Stick while |F_t| < mu F_n; slip (F_t = +-mu F_n) starts when the spring reaches the cap and
-  ends when the cap shrinks faster than the spring would unload, s k_t v_c < mu dF_n/dt.
+- Regime: "slip" when the whole contact slides (|F_t| = mu F_n) at every step, "stick" when it
+  never does (only Mindlin's micro-slip at the edge), "stick-slip" otherwise.
 
 Two paths:
 
@@ -27,9 +32,9 @@ Two paths:
   (e_x = 1), or a Hertz (elastic, uniform target) contact that slips throughout
   (psi_1 >= 4 chi - 1): then J_t = mu J_n and e_x = 1 - mu (1 + e_n) / tan(theta). Any other
   impact goes to time integration (``path`` of the result says which was used).
-- ``"time"``: the normal history (`ImpactModel.history`) interpolated (PCHIP) in time, and the
-  tangential equations integrated with `solve_ivp`, with events for stick-to-slip and
-  slip-to-stick.
+- ``"time"``: the normal history (`ImpactModel.history`) interpolated (PCHIP) in time and
+  the spring line stepped through the contact at fixed steps (velocity Verlet; the normal
+  force rescaled so that its impulse is the history's m V (1 + e_n) exactly).
 
 Units: SI (m, kg, m/s, N, Pa, s), angles in degrees, spin in rad/s.
 """
@@ -40,10 +45,9 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.interpolate import PchipInterpolator
 
-from filmscale.core.checks import check_choice, check_real
+from filmscale.core.checks import check_choice, check_int, check_real
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
 
@@ -54,7 +58,8 @@ from .results import ImpactResult
 #: moment of inertia of a solid sphere in units of m R^2
 SOLID_SPHERE = 0.4
 REGIMES = ("stick", "slip", "stick-slip")
-_MAX_SWITCHES = 1000    # stick/slip changes per impact; a few in practice
+#: time steps and springs (one side) of the time path: e_x within about 1e-3 of converged
+STEPS, SPRINGS = 2000, 400
 
 
 @dataclass(frozen=True)
@@ -133,7 +138,7 @@ def stiffness_ratio(model: ImpactModel, delta, R) -> float:
 
 def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *,
                   inertia_factor=SOLID_SPHERE, path="fast", rtol=1e-8,
-                  samples=2000) -> ObliqueResult:
+                  samples=2000, steps=STEPS, springs=SPRINGS) -> ObliqueResult:
     """One oblique impact of a sphere without initial spin.
 
     Parameters
@@ -151,15 +156,18 @@ def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *
     path : str
         "fast" (closed form where one exists, else time integration) or "time".
     rtol : float
-        Relative tolerance of the normal and tangential integrations. The interpolated normal
-        history sets the error floor: with 2000 samples J_t in gross slip is within about
-        1e-8 of mu J_n (benchmarks/impact_speed_vs_error.py).
+        Relative tolerance of the normal history's integration.
     samples : int
         Normal-history points per phase behind the interpolated F_n(t) and a(t).
+    steps, springs : int
+        Time steps through the contact and springs on one side of the MDR line of the time
+        path; the defaults keep the tangential restitution within about 1e-3 of the converged
+        value (benchmarks/impact_speed_vs_error.py).
     """
     V, R, m = (float(x) for x in _impact_inputs(velocity, radius, mass))
     theta, mu, j = oblique_inputs(angle, friction, inertia_factor)
     check_choice("path", path, ("fast", "time"))
+    steps, springs = check_int("steps", steps, 10, 10**7), check_int("springs", springs, 2, 10**5)
     if not isinstance(model, ImpactModel):
         raise InputError(f"model must be an ImpactModel, got {type(model).__name__}")
     if path == "fast":
@@ -168,7 +176,7 @@ def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *
             return done
     hist = model.history(V, R, m, rtol=rtol, samples=samples)
     return (_closed_form(model, hist.result, theta, mu, j, gross_slip=False)
-            or _integrate(model, hist, theta, mu, j, rtol))
+            or _integrate(model, hist, theta, mu, j, steps, springs))
 
 
 def _closed_form(model, normal, theta, mu, j, gross_slip=True) -> ObliqueResult | None:
@@ -206,74 +214,66 @@ def _result(normal, theta, mu, j, v_x, w, regime, path) -> ObliqueResult:
         spin=w / R, regime_tangential=regime, path=path)
 
 
-def _integrate(model, hist, theta, mu, j, rtol) -> ObliqueResult:
-    """Tangential equations in time against the interpolated normal history."""
+def _integrate(model, hist, theta, mu, j, steps, springs) -> ObliqueResult:
+    """The tangential motion stepped through the contact on the MDR spring line (module
+    docstring) against the interpolated normal history."""
     normal = hist.result
-    R, m = normal.radius, normal.mass
-    v_t = normal.velocity * math.tan(math.radians(theta))
+    R, m, V = normal.radius, normal.mass, normal.velocity
+    v_t = V * math.tan(math.radians(theta))
     if not math.isfinite(normal.contact_time):
         raise ModelRangeError("the unloading model gives no separation (status "
                               f"{normal.status}: {normal.message}): no tangential rebound")
     contact = hist.phase >= 1
     t, idx = np.unique(hist.time[contact], return_index=True)
-    delta = hist.delta[contact][idx]
-    force = hist.force[contact][idx]
-    k_t = 8.0 * tangential_modulus(model, np.clip(delta, 0.0, R), R) \
-        * hist.contact_radius[contact][idx]
-    # scales: time T (contact time), velocity V_t, force m V_t / T
-    T = normal.contact_time
-    tau = (t - t[0]) / T
-    f_n = PchipInterpolator(tau, force * T / (m * v_t))
-    df_n = f_n.derivative()
-    k_s = PchipInterpolator(tau, k_t * T * T / m)
-    rot = 1.0 / j                                   # m R^2 / I
-
-    def rhs(regime):
-        def fun(s, y):
-            f = y[2] if regime == 0 else regime * mu * float(f_n(s))
-            df = k_s(s) * (y[0] - y[1]) if regime == 0 else regime * mu * df_n(s)
-            return [-f, rot * f, float(df)]
-        return fun
-
-    def event(fun, direction):
-        fun.terminal, fun.direction = True, direction
-        return fun
-
-    stick_events = [event(lambda s, y: y[2] - mu * float(f_n(s)), 1),
-                    event(lambda s, y: y[2] + mu * float(f_n(s)), -1)]
-
-    def slip_events(sign):
-        return [event(lambda s, y: sign * float(k_s(s)) * (y[0] - y[1])
-                      - mu * float(df_n(s)), -1)]
-
-    # the first instants are Hertzian: F_t / F_n = kappa v_c / v_n, so the contact slips from
-    # the start when kappa V_t >= mu V
-    regime = 1 if stiffness_ratio(model, 0.0, R) * v_t >= mu * normal.velocity else 0
-    seen = set()
-    s0, y0 = 0.0, np.array([1.0, 0.0, 0.0])
-    options = dict(method="DOP853", rtol=rtol, atol=rtol * 1e-3)
-    for _ in range(_MAX_SWITCHES):
-        seen.add("stick" if regime == 0 else "slip")
-        evs = stick_events if regime == 0 else slip_events(regime)
-        sol = solve_ivp(rhs(regime), (s0, tau[-1]), y0, events=evs, **options)
-        if sol.status < 0:
-            raise ModelRangeError(f"tangential integration failed: {sol.message}")
-        hit = [k for k, te in enumerate(sol.t_events) if te.size]
-        if not hit:
-            break
-        k = min(hit, key=lambda k: sol.t_events[k][0])
-        s0, y0 = sol.t_events[k][0], sol.y_events[k][0].copy()
-        if regime == 0:
-            regime = 1 if k == 0 else -1
-            y0[2] = regime * mu * float(f_n(s0))
+    t = t - t[0]
+    dt = t[-1] / steps
+    mid = (np.arange(steps) + 0.5) * dt
+    f_n = np.clip(PchipInterpolator(t, hist.force[contact][idx])(mid), 0.0, None)
+    f_n *= m * V * (1.0 + normal.restitution) / (f_n.sum() * dt)
+    a = np.clip(PchipInterpolator(t, _continuous_radius(hist)[contact][idx])(mid), 0.0, None)
+    delta = np.clip(PchipInterpolator(t, hist.delta[contact][idx])(mid), 0.0, R)
+    stiffness = 4.0 * tangential_modulus(model, delta, R) * np.ones(steps)   # per unit length
+    # one side of the symmetric spring line, x in [0, a_max]; cell k is [x_k, x_k + dx]
+    dx = a.max() / springs
+    x = np.arange(springs) * dx
+    force = np.zeros(springs)                   # spring forces of one side, N
+    v, w, f_t = v_t, 0.0, 0.0                   # w = R omega
+    slid = stuck = False
+    for n in range(steps):
+        v, w = v - 0.5 * f_t / m * dt, w + 0.5 * f_t / (j * m) * dt
+        top = np.clip(a[n], x, x + dx)          # the part of each cell in contact
+        length = top - x
+        # each cell's share of the line load (a^2 - x^2), integrated exactly over the cell
+        share = a[n] ** 2 * length - (top ** 3 - x ** 3) / 3.0
+        total = share.sum()
+        if total <= 0.0:
+            force[:] = 0.0
+            f_t = 0.0
         else:
-            regime = 0
-    else:
-        raise ModelRangeError(f"the contact switched between stick and slip more than "
-                              f"{_MAX_SWITCHES} times: no converged tangential solution")
-    kind = "stick-slip" if len(seen) == 2 else seen.pop()
-    return _result(normal, theta, mu, j, sol.y[0, -1] * v_t, sol.y[1, -1] * v_t, kind,
-                   "time-integration")
+            limit = (0.5 * mu * f_n[n] / total) * share
+            force = np.clip(np.where(length > 0.0, force + stiffness[n] * length * (v - w) * dt,
+                                     0.0), -limit, limit)
+            f_t = 2.0 * force.sum()
+            if abs(f_t) >= mu * f_n[n] * (1.0 - 1e-9):
+                slid = True
+            else:
+                stuck = True
+        v, w = v - 0.5 * f_t / m * dt, w + 0.5 * f_t / (j * m) * dt
+    kind = "stick-slip" if slid and stuck else ("slip" if slid else "stick")
+    return _result(normal, theta, mu, j, v, w, kind, "time-integration")
+
+
+def _continuous_radius(hist) -> np.ndarray:
+    """The history's contact radius with its unloading part scaled to start from the loading
+    radius at maximum approach. The Hertz unloading of a residual-depth fit
+    (jackson-chusoipin-green, brake) may start from another radius than the loading law's
+    area gives (about twice it for Jackson-Green at 5 m/s on aluminium); a contact does not
+    grow as it unloads, and the spring line must not gain a stuck annulus at that instant."""
+    a = hist.contact_radius.copy()
+    loading, unloading = np.flatnonzero(hist.phase == 1), np.flatnonzero(hist.phase == 2)
+    if loading.size and unloading.size and a[unloading[0]] > 0.0:
+        a[unloading] *= a[loading[-1]] / a[unloading[0]]
+    return a
 
 
 #: the tangential fields of an oblique map, with units; the regime is an index into REGIMES
@@ -318,7 +318,7 @@ def oblique_map(model: ImpactModel, velocity, radius, mass, angle, friction, *,
                 key = (normal.velocity, normal.radius)
                 if key not in histories:
                     histories[key] = model.history(*key, base.mass, rtol=rtol, samples=2000)
-                res = _integrate(model, histories[key], theta, mu, j, rtol)
+                res = _integrate(model, histories[key], theta, mu, j, STEPS, SPRINGS)
             for k in OBLIQUE_FIELDS:
                 value = getattr(res, k)
                 out[k][r, c] = REGIMES.index(value) if k == "regime_tangential" else value

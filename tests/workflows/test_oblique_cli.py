@@ -128,6 +128,41 @@ def test_impact_map_over_velocity_and_angle(tmp_path, capsys):
         1 - 0.1 * (1 + e_n) / math.tan(math.radians(80)), abs=1e-6)
 
 
+def test_velocity_angle_map_plots_the_tangential_results_against_the_angle(tmp_path, capsys):
+    """The (V, angle) map's plot: angle rows, e_y and the four tangential fields, one row each
+    (the figure's height says how many rows were drawn), and a PNG that decodes."""
+    import matplotlib.image
+    scene = tmp_path / "m.toml"
+    scene.write_text(SCENE.format(mu=0.1) + MAP)
+    plot = tmp_path / "m.png"
+    assert main(["impact-map", str(scene), "--angle", "5:80:4", "--out", str(tmp_path / "m.h5"),
+                 "--plot", str(plot)]) == 0
+    image = matplotlib.image.imread(plot)
+    assert image.shape[0] == pytest.approx(5 * 2.9 * 110, abs=2)      # 5 rows at dpi 110
+    assert image.std() > 0.05                                        # not blank
+
+
+def test_velocity_angle_map_axes_and_fields():
+    """`plot_impact_maps` picks angle rows, e_y plus the tangential fields, and linear colour
+    scales for the signed contact-point restitution."""
+    from filmscale.continuum.contact.impact import ImpactModel
+    from filmscale.continuum.contact.laws import contact_law
+    from filmscale.continuum.contact.oblique import oblique_map
+    from filmscale.continuum.materials import ElasticPlastic
+    from filmscale.workflows import plots
+    steel = ElasticPlastic(E=200e9, nu=0.3, sigma_y=1.5e9)
+    mp = oblique_map(ImpactModel(steel, contact_law("hertz")), np.array([0.05, 0.1]), 1e-3,
+                     3.27e-5, np.array([2.0, 10.0, 80.0]), 0.1)
+    values, label, log = plots._rows(mp)
+    assert values.tolist() == [2.0, 10.0, 80.0] and label.startswith("incidence") and not log
+    e_c = mp.field("restitution_contact_point")
+    assert e_c.min() < 0 < e_c.max()          # reverses at small angles, slides at 80 degrees
+    levels, norm = plots._levels([e_c], "restitution_contact_point")
+    assert levels[0] == pytest.approx(e_c.min()) and levels[-1] == pytest.approx(e_c.max())
+    levels, _ = plots._levels([np.full((2, 2), 0.7)], "restitution_tangential")
+    assert levels[-1] > levels[0]             # a constant field still gets a colour band
+
+
 def test_impact_map_over_velocity_and_radius_at_the_scene_angle(tmp_path, capsys):
     from filmscale.workflows.result import read_impact_maps
     scene = tmp_path / "m.toml"
@@ -141,7 +176,7 @@ def test_impact_map_over_velocity_and_radius_at_the_scene_angle(tmp_path, capsys
 
 @pytest.mark.parametrize("args, message", [
     (["--angle", "10:95:3"], "--angle = 95 degrees is outside the valid range"),
-    (["--angle", "10:80:3", "--plot", "x.png"], "--plot draws (V, R) maps"),
+    (["--angle", "10:10:1", "--plot", "x.png"], "at least 2 velocities and 2 angles"),
 ])
 def test_bad_map_angles_exit_2(tmp_path, capsys, args, message):
     scene = tmp_path / "m.toml"

@@ -177,9 +177,7 @@ def dao_sweep(workdir, table):
             run = indent(f"dao-{mat.material.name}-{v:g}", ParticleTarget(mat),
                          Grid(dx, 2.4e-6, 2.3e-6), v, depth=h_max, tip="cone:70.3",
                          workdir=workdir)
-            h, P = loading(run)
-            m = h >= 0.5 * h_max
-            C[v] = float(np.sum(P[m] * h[m]**2) / np.sum(h[m]**4))   # least squares P = C h^2
+            C[v] = run.curve().loading_curvature(from_fraction=0.5)
             steps, wall = steps + run.steps, wall + run.wall_time
         e = mat.material
         C_dao, _ = loading_curvature("berkovich", e.E, e.plane_strain_modulus, e.sigma_y, e.n)

@@ -205,12 +205,14 @@ class _Figures:
 @dataclass(frozen=True)
 class IndentResult(_Figures):
     """Figures of a particle indentation, SI: the largest load and the largest indenter depth;
-    ``hertz_ratio`` = P_max / Hertz load at h_max
+    ``C`` the least-squares Kick's-law curvature P = C h^2 over the whole loading (Pa; for
+    sharp tips); ``hertz_ratio`` = P_max / Hertz load at h_max
     with the top material's E* (elastic targets; NaN otherwise); ``block_ratio`` the same
     against `block_hertz_force` (homogeneous elastic targets)."""
 
     P_max: float
     h_max: float
+    C: float
     residual_depth: float
     hertz_ratio: float
     block_ratio: float
@@ -219,7 +221,8 @@ class IndentResult(_Figures):
     wall_time: float
 
     def summary(self) -> str:
-        return (f"P_max {self.P_max:.4g} N at h_max {self.h_max:.4g} m; residual depth "
+        return (f"P_max {self.P_max:.4g} N at h_max {self.h_max:.4g} m; loading curvature "
+                f"C = P/h^2 {self.C / 1e9:.4g} GPa; residual depth "
                 f"{self.residual_depth:.4g} m; Hertz ratio {self.hertz_ratio:.3f} "
                 f"(finite block {self.block_ratio:.3f}); {self.particles} particles, "
                 f"{self.steps} steps, {self.wall_time:.1f} s")
@@ -243,7 +246,7 @@ def analyze_indent(run: ParticleRun) -> IndentResult:
             m = spec.target.substrate.material
             block = P_max / float(block_hertz_force(h_max, spec.tip.R, m.E, m.nu,
                                                     spec.grid.depth))
-    return IndentResult(P_max=P_max, h_max=h_max,
+    return IndentResult(P_max=P_max, h_max=h_max, C=curve.loading_curvature(),
                         residual_depth=residual_from_unloading(
                             run.depth, run.load, curve.segment == UNLOAD),
                         hertz_ratio=hertz, block_ratio=block,

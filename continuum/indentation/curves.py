@@ -165,6 +165,19 @@ class LoadDisplacementCurve:
         unl = self.unloading()
         return slice(0, unl.start + 1 if unl.stop > unl.start else len(self))
 
+    def loading_curvature(self, from_fraction: float = 0.0) -> float:
+        """Kick's-law curvature C (Pa): the least-squares fit P = C h^2 (no intercept) to the
+        loading points (segment LOAD) with h > from_fraction h_max. C = sum(P h^2)/sum(h^4);
+        meaningful for sharp (self-similar) tips. NaN when no point qualifies."""
+        from_fraction = check_real("from_fraction", from_fraction, low=0.0, high=1.0,
+                                   high_open=True)
+        c = self.finite()
+        load = c.segment == LOAD
+        sel = load & (c.h > from_fraction * c.h[load].max()) if load.any() else load
+        h, P = c.h[sel], c.P[sel]
+        denominator = float(np.sum(h**4))
+        return float(np.sum(P * h**2) / denominator) if denominator > 0 else math.nan
+
     def frame_corrected(self, C_f: float) -> LoadDisplacementCurve:
         """h - C_f P: the displacement of the sample alone, given frame compliance C_f (m/N)."""
         C_f = check_real("frame compliance C_f", C_f, low=0.0, high=1.0, unit="m/N")

@@ -141,3 +141,23 @@ def test_hdf5_round_trip(tmp_path):
     np.testing.assert_array_equal(back.segment, c.segment)
     assert str(back.indenter) == "berkovich" and back.meta["seed"] == 2
     assert curves["b"].meta["frame_compliance"] == 1e-10
+
+
+def test_loading_curvature_is_the_kick_fit_of_the_loading_only():
+    """Oracle: the synthetic loading is P = P_max (h/h_max)^2 exactly, so C = P_max/h_max^2
+    (1e-12); the hold and unloading must not enter. With load noise, C against numpy's
+    least squares on the same points (a second method) to 1e-12, and within 4 standard
+    errors of the true C."""
+    curve = clean()
+    C_true = curve.P_max / curve.h_max**2
+    assert curve.loading_curvature() == pytest.approx(C_true, rel=1e-12)
+    assert curve.loading_curvature(from_fraction=0.5) == pytest.approx(C_true, rel=1e-12)
+    noisy = clean(noise=0.01, seed=5)
+    sel = noisy.segment == LOAD
+    h, P = noisy.h[sel], noisy.P[sel]
+    (C_lstsq,), *_ = np.linalg.lstsq((h**2)[:, None], P, rcond=None)
+    assert noisy.loading_curvature() == pytest.approx(C_lstsq, rel=1e-12)
+    stderr = 0.01 * noisy.P_max / np.sqrt(np.sum(h**4))
+    assert abs(noisy.loading_curvature() - C_true) < 4 * stderr
+    with pytest.raises(InputError, match="from_fraction"):
+        curve.loading_curvature(from_fraction=1.0)

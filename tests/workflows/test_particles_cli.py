@@ -48,3 +48,27 @@ def test_tlsph_refuses_a_layered_target_and_missing_files(tmp_path, capsys):
     assert main(["particles", "impact", str(tmp_path / "none.toml")]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["particles", "impact", "--preset", "huge"]) == 2
+
+
+@pytest.mark.parametrize("alloy, forward_gpa", [("6061", 28.2), ("7075", 44.8)])
+def test_dao_example_specs_hold_dao_s_materials(alloy, forward_gpa):
+    """The example specs load, carry a 70.3 degree cone, and their alloys are Dao's: Al 6061's
+    sigma_y and n equal those of the packaged measured indents (Al6061.csv), and Dao's forward
+    C of each alloy is the one the spec's comment quotes (to its 0.1 GPa)."""
+    import csv
+    from pathlib import Path
+
+    from filmscale.continuum.indentation.reverse.functions import loading_curvature
+    from filmscale.md.particle_spec import load_spec
+    root = Path(__file__).resolve().parents[2]
+    spec = load_spec(root / "examples" / "particles" / f"dao_al{alloy}.toml", "indent", None)
+    mat = spec.target.substrate.material
+    assert spec.tip.spec.startswith("cone:70.3")
+    if alloy == "6061":
+        data = root / "continuum" / "indentation" / "reverse" / "data" / "dao2001" / "Al6061.csv"
+        with data.open(encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+        assert {float(r["sy (GPa)"]) for r in rows} == {mat.sigma_y / 1e9}
+        assert {float(r["n"]) for r in rows} == {mat.n}
+    C, ok = loading_curvature("berkovich", mat.E, mat.plane_strain_modulus, mat.sigma_y, mat.n)
+    assert bool(ok) and float(C) / 1e9 == pytest.approx(forward_gpa, abs=0.05)

@@ -34,14 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
+from filmscale.continuum.contact.hertz import hertz_force
+from filmscale.continuum.indentation.curves import LOAD
+from filmscale.continuum.indentation.reverse.functions import loading_curvature
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.md.particle_run import (analyze_impact, block_hertz_force, run_particles)
+from filmscale.md.particle_run import analyze_impact, block_hertz_force, run_particles
 from filmscale.md.particle_spec import hertz_mass
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
-from filmscale.continuum.contact.hertz import hertz_force
-from filmscale.continuum.indentation.reverse.functions import loading_curvature
-from filmscale.continuum.indentation.curves import LOAD
 
 R = 1e-6
 AL = ParticleMaterial(ElasticPlastic(70e9, 0.3, name="Al"), 2700.0)
@@ -142,8 +142,8 @@ def impact_sweep(workdir, table):
 def plastic_impact_sweep(workdir, table):
     """Elastic-perfectly plastic Al (sigma_y = 0.3 GPa) hit at 50 m/s by the mass that would
     reach 0.1 R elastically, against the continuum impact model on the same scene."""
-    from filmscale.continuum.contact.laws import contact_law
     from filmscale.continuum.contact.impact import ImpactModel
+    from filmscale.continuum.contact.laws import contact_law
 
     print("\n## plastic impact (Al, sigma_y = 0.3 GPa, 50 m/s) against the continuum model")
     row("model", "particles", "steps", "wall s", "delta_max m", "restitution",

@@ -16,14 +16,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm  # noqa: E402
-from matplotlib.ticker import (FormatStrFormatter, MaxNLocator,  # noqa: E402
-                               NullFormatter)
+from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter  # noqa: E402
+
 from filmscale.continuum.contact.cylinder import CylinderImpactHistory
 from filmscale.continuum.contact.impact import ImpactHistory
 from filmscale.continuum.contact.impact_map import CylinderMap, ImpactMap
 from filmscale.core.files import atomic_path
-
-
 
 #: file formats the plots can be written in
 PLOT_FORMATS = tuple(sorted(FigureCanvasAgg.get_supported_filetypes()))

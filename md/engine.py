@@ -173,7 +173,9 @@ def log_error(text: str) -> str | None:
 
 
 class _LogFollower(threading.Thread):
-    """Reads a growing LAMMPS log and reports the last thermo step seen."""
+    """Reads a growing LAMMPS log and reports the last thermo step seen: the first number of
+    a line of numbers inside a thermo block (after its "Step" header, before "Loop time").
+    Other lines may start with a number too ("32856 atoms in group target")."""
 
     def __init__(self, path: Path, callback: ProgressCallback, interval: float = 0.5):
         super().__init__(daemon=True)
@@ -181,6 +183,7 @@ class _LogFollower(threading.Thread):
         self._stop_event = threading.Event()
         self._offset = 0
         self._partial = ""
+        self._in_thermo = False
 
     def poll(self):
         try:
@@ -194,9 +197,13 @@ class _LogFollower(threading.Thread):
         self._partial = lines.pop()
         step = None
         for line in lines:
-            first = line.split(maxsplit=1)
-            if first and first[0].isdigit():
-                step = int(first[0])
+            words = line.split()
+            if words[:1] == ["Step"]:
+                self._in_thermo = True
+            elif words[:2] == ["Loop", "time"]:
+                self._in_thermo = False
+            elif self._in_thermo and words and words[0].isdigit() and _numbers(words[1:]):
+                step = int(words[0])
         if step is not None:
             self.callback(step)
 
@@ -208,6 +215,14 @@ class _LogFollower(threading.Thread):
         self._stop_event.set()
         self.join()
         self.poll()
+
+
+def _numbers(words: list[str]) -> bool:
+    try:
+        [float(w) for w in words]
+    except ValueError:
+        return False
+    return True
 
 
 def _executable(name: str) -> Path:

@@ -135,3 +135,26 @@ def test_plastic_indentation_stops_at_separation_with_the_crater_residual(tmp_pa
                     E_star=E_star, R=R, yield_approach=0.0)
     assert res.residual_depth == pytest.approx(float(crater.residual_depth),
                                                abs=0.1 * res.h_max)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("alloy, measured", [("6061", 27.443e9), ("7075", None)])
+def test_dao_example_specs_within_five_percent(tmp_path, alloy, measured):
+    """The example specs (about 3 min each on 2 ranks): C within 5 % (issue 20's criterion)
+    of Dao's forward function, and for Al 6061 of the mean of the packaged measured
+    Berkovich indents (27.44 GPa, Al6061.csv). Measured: 28.4 GPa (+0.4 % and +3.4 %) and
+    45.0 GPa (+0.5 %)."""
+    from pathlib import Path
+
+    from filmscale.continuum.indentation.reverse.functions import loading_curvature
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.particle_spec import load_spec
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "particles"
+                     / f"dao_al{alloy}.toml", "indent")
+    res = analyze_indent(run_particles(spec, tmp_path, EngineOptions(np=2, omp_threads=1)))
+    mat = spec.target.substrate.material
+    dao, _ = loading_curvature("berkovich", mat.E, mat.plane_strain_modulus, mat.sigma_y,
+                               mat.n)
+    assert res.C == pytest.approx(float(dao), rel=0.05)
+    if measured is not None:
+        assert res.C == pytest.approx(measured, rel=0.05)

@@ -98,12 +98,17 @@ def _colorbar(fig, mappable, axes, label, norm):
     cb.set_label(label)
 
 
+def _angle_rows(m: ImpactMap | CylinderMap) -> bool:
+    """True for an oblique map over (V, angle); cylinder maps have no angle."""
+    angle = getattr(m, "angle", None)
+    return angle is not None and np.ptp(angle) > 0
+
+
 def _rows(m: ImpactMap | CylinderMap) -> tuple[np.ndarray, str, bool]:
     """The map's row axis for plotting: values, label and whether it is logarithmic. An
     oblique map over (V, angle) has the incidence angle as rows, any other map the radius."""
-    angle = getattr(m, "angle", None)           # cylinder maps have none
-    if angle is not None and np.ptp(angle) > 0:
-        return angle, "incidence angle (deg)", False
+    if _angle_rows(m):
+        return m.angle, "incidence angle (deg)", False
     return m.radius * 1e6, "radius R (µm)", m.radius[-1] / m.radius[0] > 20
 
 
@@ -141,8 +146,7 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
     labels = list(maps)
     first = maps[labels[0]]
     if fields is None:
-        angle_rows = _rows(first)[1].startswith("incidence")
-        fields = ("restitution",) if angle_rows else tuple(first.fields)
+        fields = ("restitution",) if _angle_rows(first) else tuple(first.fields)
         fields += OBLIQUE_PLOT_FIELDS if getattr(first, "tangential", None) else ()
     ratio = len(labels) == 2
     rows, cols = len(fields), len(labels) + ratio
@@ -192,7 +196,7 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
                         f"{labels[0]} {'-' if difference else '/'} {labels[1]}")
     if title:
         blank = ("blank e_x, e_c: no tangential speed (normal incidence)"
-                 if _rows(first)[1].startswith("incidence") else "blank residual depth: no crater")
+                 if _angle_rows(first) else "blank residual depth: no crater")
         fig.suptitle(f"{title}\ndashed: first yield; hatched: {first.range_limit} "
                      f"(not computed); {blank}")
     return _save(fig, path)

@@ -236,6 +236,7 @@ def _integrate(model, hist, theta, mu, j, steps, springs) -> ObliqueResult:
     # one side of the symmetric spring line, x in [0, a_max]; cell k is [x_k, x_k + dx]
     dx = a.max() / springs
     x = np.arange(springs) * dx
+    x_cubed = x**3
     force = np.zeros(springs)                   # spring forces of one side, N
     v, w, f_t = v_t, 0.0, 0.0                   # w = R omega
     slid = stuck = False
@@ -244,7 +245,7 @@ def _integrate(model, hist, theta, mu, j, steps, springs) -> ObliqueResult:
         top = np.clip(a[n], x, x + dx)          # the part of each cell in contact
         length = top - x
         # each cell's share of the line load (a^2 - x^2), integrated exactly over the cell
-        share = a[n] ** 2 * length - (top ** 3 - x ** 3) / 3.0
+        share = a[n] ** 2 * length - (top ** 3 - x_cubed) / 3.0
         total = share.sum()
         if total <= 0.0:
             force[:] = 0.0

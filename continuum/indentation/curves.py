@@ -168,7 +168,8 @@ class LoadDisplacementCurve:
     def loading_curvature(self, from_fraction: float = 0.0) -> float:
         """Kick's-law curvature C (Pa): the least-squares fit P = C h^2 (no intercept) to the
         loading points (segment LOAD) with h > from_fraction h_max. C = sum(P h^2)/sum(h^4);
-        meaningful for sharp (self-similar) tips. NaN when no point qualifies."""
+        meaningful for sharp (self-similar) tips, as in Dao et al. (2001, Acta Mater. 49,
+        3899). NaN when no point qualifies."""
         from_fraction = check_real("from_fraction", from_fraction, low=0.0, high=1.0,
                                    high_open=True)
         c = self.finite()

@@ -24,19 +24,9 @@ from filmscale.core.files import TEMP_MARK, _host
 from filmscale.workflows.cli import HISTORY_HEADER, main
 from filmscale.workflows.result import RESULT_FORMAT
 from tests.workflows.test_pipeline import BASE, _sphere_curve_file
+from tests.workflows.test_scene import MINIMAL
 
-SCENE = """
-[impactor]
-radius = 10e-6
-mass = 1.6e-6
-velocity = 0.05
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-
+SCENE = MINIMAL.replace("velocity = 0.2", "velocity = 0.05") + """
 [map]
 velocity = [0.01, 1.0, 3]
 radius = [1e-6, 1e-5, 3]

@@ -110,8 +110,9 @@ def _line_problem(line: str, defined: set[str]) -> str | None:
     if any(w.lower().rstrip('"').endswith(COMPRESSED) for w in words):
         return "it names a compressed file, which LAMMPS may read through a shell"
     if name == "variable":
-        if len(words) < 4 or not IDENTIFIER.fullmatch(words[1]) or words[2] != "equal":
-            return "a variable must be 'variable NAME equal FORMULA'"
+        if len(words) < 4 or not IDENTIFIER.fullmatch(words[1]) or \
+                words[2] not in ("equal", "atom"):
+            return "a variable must be 'variable NAME equal|atom FORMULA'"
     style_at = {"fix": 3, "dump": 3, "write_dump": 2}.get(name)
     if style_at is not None:
         style = words[style_at] if len(words) > style_at else None

@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import math
 
-from filmscale.continuum.indentation.tips import Cone, Sphere
+from filmscale.continuum.indentation.tips import Cone, Sphere, SphericalCone
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.md.particles import (PERI_HORIZON, Grid, ParticleImpactSpec, ParticleIndentSpec,
-                                    ParticleMaterial)
+from filmscale.md.particles import (PERI_HORIZON, PYRAMID_FACE_ANGLES, Grid,
+                                    ParticleImpactSpec, ParticleIndentSpec, ParticleMaterial,
+                                    contact_radius, is_pyramid)
 from filmscale.md.units import from_si
 
 #: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.
@@ -64,12 +65,14 @@ def _block_lines(spec, n_types: int, top: float) -> list[str]:
     dx = from_si(g.spacing, "length", "particle")
     W = round(g.width / g.spacing) * dx
     D = round(g.depth / g.spacing) * dx
-    lo = -0.5 * dx if g.quarter else -W - 0.5 * dx
-    xy = f"{_num(lo)} {_num(W + 0.5 * dx)} {_num(lo)} {_num(W + 0.5 * dx)}"
+    x_lo = -0.5 * dx if g.symmetric else -W - 0.5 * dx
+    y_lo = -0.5 * dx if g.quarter else -W - 0.5 * dx
+    xy = f"{_num(x_lo)} {_num(W + 0.5 * dx)} {_num(y_lo)} {_num(W + 0.5 * dx)}"
     nx, ny, nz = g.counts()
+    planes = (" (quarter model: symmetry planes x = 0 and y = 0)" if g.quarter else
+              " (half model: symmetry plane x = 0)" if g.half else "")
     return [
-        f"# ---- block: {nx} x {ny} x {nz} lattice points of spacing {g.spacing:g} m"
-        + (" (quarter model: symmetry planes x = 0 and y = 0)" if g.quarter else ""),
+        f"# ---- block: {nx} x {ny} x {nz} lattice points of spacing {g.spacing:g} m{planes}",
         f"lattice sc {_num(dx)}",
         f"region block block {xy} {_num(-D - 0.5 * dx)} {_num(0.5 * dx)} units box",
         f"region world block {xy} {_num(-D - 0.5 * dx)} {_num(max(top, 0.5 * dx))} units box",
@@ -78,12 +81,21 @@ def _block_lines(spec, n_types: int, top: float) -> list[str]:
 
 
 def _weight_groups(grid: Grid, member: str) -> list[str]:
-    """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a quarter model the
-    particles on one symmetry plane own half a cell, those on the axis a quarter."""
-    if not grid.quarter:
+    """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a symmetric model the
+    particles on one symmetry plane own half a cell, those on the axis (quarter model) a
+    quarter."""
+    if not grid.symmetric:
         return [f"group interior union {member}", "group plane empty", "group axis empty"]
     dx = from_si(grid.spacing, "length", "particle")
     h = _num(0.5 * dx)
+    if grid.half:
+        return [
+            f"region xplane block INF {h} INF INF INF INF units box",
+            "group on_x region xplane",
+            f"group plane intersect on_x {member}",
+            "group axis empty",
+            f"group interior subtract {member} plane",
+        ]
     return [
         f"region xplane block INF {h} INF INF INF INF units box",
         f"region yplane block INF INF INF {h} INF INF units box",
@@ -97,18 +109,31 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
     ]
 
 
-def _indent_fix_lines(spec, K: float, geometry: str, scale: float = 1.0) -> list[str]:
-    """One ``fix indent`` per weight group (K times the weight) and the total load
-    ``v_load`` (mN, upward force on the indenter, times 4 in a quarter model). ``scale``
-    turns a fix's force into a force (the particle volume for PERI's force densities)."""
+def _symmetry_lines(grid: Grid) -> list[str]:
+    """Zero normal velocity on the symmetry planes (TLSPH's ``smd/setvel``)."""
+    lines = []
+    if grid.symmetric:
+        lines += ["group sym_x intersect on_x target", "fix sym_x sym_x smd/setvel 0 NULL NULL"]
+    if grid.quarter:
+        lines += ["group sym_y intersect on_y target", "fix sym_y sym_y smd/setvel NULL 0 NULL"]
+    return lines
+
+
+def _indent_fix_lines(spec, K: float, geometries: dict[str, str],
+                      scale: float = 1.0) -> list[str]:
+    """One ``fix indent`` per geometry (named by its key) and weight group (K times the
+    weight), and the total load ``v_load`` (mN, upward force on the indenter, times the
+    symmetry factor). ``scale`` turns a fix's force into a force (the particle volume for
+    PERI's force densities)."""
     lines = []
     terms = []
-    groups = (("interior", 1.0), ("plane", 0.5), ("axis", 0.25)) if spec.grid.quarter \
-        else (("interior", 1.0),)
-    for group, w in groups:
-        lines.append(f"fix ind_{group} {group} indent {_num(K * w / scale)} {geometry} "
-                     "units box")
-        terms.append(f"f_ind_{group}[3]")
+    groups = (("interior", 1.0), ("plane", 0.5), ("axis", 0.25))[:3 if spec.grid.quarter else
+                                                                 2 if spec.grid.half else 1]
+    for name, geometry in geometries.items():
+        for group, w in groups:
+            lines.append(f"fix {name}_{group} {group} indent {_num(K * w / scale)} {geometry} "
+                         "units box")
+            terms.append(f"f_{name}_{group}[3]")
     mult = spec.grid.symmetry_factor * scale
     lines.append(f"variable load equal {_num(mult)}*({'+'.join(terms)})")
     return lines
@@ -125,6 +150,68 @@ def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
     r1 = r0 + height * math.tan(math.radians(tip.half_angle))
     return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
             f"v_{apex}_top")
+
+
+def _sphero_conical_lines(tip: SphericalCone, height: float) -> tuple[list[str], dict]:
+    """A sphere of radius R at the apex and the cone frustum tangent to it from
+    h_a = R (1 - sin theta) above the apex (radius R cos theta) upward: two ``fix indent``
+    whose solids meet on the tangent circle, so a particle outside the tip feels one."""
+    R = from_si(tip.R, "length", "particle")
+    theta = math.radians(tip.half_angle)
+    r_t = R * math.cos(theta)
+    lines = [f"variable zc equal -v_depth+{_num(R)}",
+             f"variable tangent equal -v_depth+{_num(R * (1 - math.sin(theta)))}",
+             f"variable tangent_top equal v_tangent+{_num(height)}"]
+    return lines, {"ind": _sphere_geometry(R, "v_zc"),
+                   "frustum": f"cone z 0 0 {_num(r_t)} {_num(r_t + height * math.tan(theta))}"
+                              " v_tangent v_tangent_top"}
+
+
+def _pyramid_lines(spec, K: float, dx: float, scale: float = 1.0) -> list[str]:
+    """A sharp three-sided pyramid with its apex at ``v_apex`` on the z axis, faces at the
+    tip's face angle, one face normal along +y (so x = 0 is a mirror plane).
+
+    ``fix indent`` has no pyramid, so the force is written out as per-atom variables: a particle inside the pyramid, at
+    depth d under its nearest face (the face whose plane is closest, s_k = N_k . (x - apex)
+    largest and negative), is pushed along that face's outward normal N_k with K d^2, fix
+    indent's law, K weighted as in `_indent_fix_lines`. Only the particles the tip can reach
+    (group ``near``) are evaluated."""
+    tip = spec.tip
+    face = math.radians(PYRAMID_FACE_ANGLES[tip.name])
+    normals = [tuple(round(c, 12) for c in (math.cos(face) * math.cos(math.radians(phi)),
+                                            math.cos(face) * math.sin(math.radians(phi)),
+                                            -math.sin(face)))
+               for phi in (90.0, 210.0, 330.0)]
+    h_max = from_si(spec.loading.depth, "length", "particle")
+    reach = from_si(contact_radius(tip, spec.loading.depth), "length", "particle") + 2 * dx
+    lines = [
+        "# ---- the pyramid: three faces through the apex; a particle inside is pushed out of",
+        "#      its nearest face with K d^2 (fix indent's law)",
+        f"region near cylinder z 0 0 {_num(reach)} {_num(-h_max - 2 * dx)} {_num(0.5 * dx)} "
+        "units box",
+        "group near_all region near    # the particles the tip can reach",
+        "group near intersect near_all target",
+    ]
+    for k, (nx, ny, nz) in enumerate(normals, start=1):
+        lines.append(f"variable s{k} atom {_num(nx)}*x+{_num(ny)}*y+{_num(nz)}*(z-v_apex)")
+    for k in range(1, 4):
+        others = [j for j in range(1, 4) if j != k]
+        # ties (measure zero) would count two faces; >= against the lower index only
+        lines.append(f"variable d{k} atom (v_s{k}>{'=' if others[0] > k else ''}v_s{others[0]})"
+                     f"*(v_s{k}>{'=' if others[1] > k else ''}v_s{others[1]})"
+                     f"*(v_s{k}<0)*v_s{k}*v_s{k}")
+    weight = "1"
+    if spec.grid.symmetric:
+        weight += "-0.5*gmask(plane)" + ("-0.75*gmask(axis)" if spec.grid.quarter else "")
+    lines.append(f"variable kw atom {_num(K / scale)}*({weight})")
+    for axis, i in (("x", 0), ("y", 1), ("z", 2)):
+        terms = "+".join(f"v_d{k}*({_num(n[i])})" for k, n in enumerate(normals, start=1))
+        lines.append(f"variable f{axis} atom v_kw*({terms})")
+    mult = spec.grid.symmetry_factor * scale
+    lines += ["fix pyramid near addforce v_fx v_fy v_fz",
+              "compute pyramid_z near reduce sum v_fz",
+              f"variable load equal {_num(-mult)}*c_pyramid_z"]
+    return lines
 
 
 def _tlsph_material(m: ParticleMaterial) -> str:
@@ -244,10 +331,7 @@ def _tlsph_input(spec, version: str) -> str:
         "group base intersect base_all target",
         "fix base base smd/setvel 0 0 0",
     ]
-    if g.quarter:
-        lines += ["group sym_x intersect on_x target", "group sym_y intersect on_y target",
-                  "fix sym_x sym_x smd/setvel 0 NULL NULL",
-                  "fix sym_y sym_y smd/setvel NULL 0 NULL"]
+    lines += _symmetry_lines(g)
     lines += [
         f"fix dtfix all smd/adjust_dt {CFL}",
         "fix integration tlsph smd/integrate_tlsph",
@@ -290,12 +374,16 @@ def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: floa
     ]
     if isinstance(spec.tip, Sphere):
         lines.append(f"variable zc equal {_num(R)}-v_depth")
-        geometry = _sphere_geometry(R, "v_zc")
+        lines += _indent_fix_lines(spec, K, {"ind": _sphere_geometry(R, "v_zc")}, scale)
+    elif is_pyramid(spec.tip):
+        lines += ["variable apex equal -v_depth", *_pyramid_lines(spec, K, dx, scale)]
+    elif isinstance(spec.tip, SphericalCone):
+        tip_lines, geometries = _sphero_conical_lines(spec.tip, D)
+        lines += [*tip_lines, *_indent_fix_lines(spec, K, geometries, scale)]
     else:
-        height = D
-        lines += ["variable apex equal -v_depth", f"variable apex_top equal v_apex+{_num(height)}"]
-        geometry = _cone_geometry(spec.tip, "apex", height, dx)
-    lines += _indent_fix_lines(spec, K, geometry, scale)
+        lines += ["variable apex equal -v_depth", f"variable apex_top equal v_apex+{_num(D)}"]
+        lines += _indent_fix_lines(spec, K, {"ind": _cone_geometry(spec.tip, "apex", D, dx)},
+                                   scale)
     lines += [
         f"region apex sphere 0 0 0 {_num(0.25 * dx)} units box",
         "group apex region apex",
@@ -321,7 +409,7 @@ def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
         f"variable zc equal {_num(R)}+xcm(imp,z)-v_z_imp0",
         f"variable approach equal {_num(R)}-v_zc",
         f"velocity imp set 0 0 {_num(-V)} units box",
-        *_indent_fix_lines(spec, K, _sphere_geometry(R, "v_zc"), scale),
+        *_indent_fix_lines(spec, K, {"ind": _sphere_geometry(R, "v_zc")}, scale),
         "# the reaction on the sphere, spread over the cluster (defined after the indenter",
         "# fixes, so that it reads their force of the same step)",
         f"variable push equal v_load/{_num(spec.grid.symmetry_factor)}/v_n_imp"

@@ -4,7 +4,8 @@ A spec file (SI units throughout)::
 
     name = "al6061-sphere"
     method = "tlsph"              # or "peri" (layered, elastic)
-    tip = "sphere:1um"            # or "cone:70.3" (indentation only)
+    tip = "sphere:1um"            # indentation also: "cone:70.3", "berkovich",
+                                  # "cube-corner", "sphero-conical:100nm:70.3"
     [target.substrate]
     E = 66.8e9
     nu = 0.33
@@ -20,11 +21,13 @@ A spec file (SI units throughout)::
     spacing = 1.333e-7            # m
     width = 2e-6                  # m, from the axis to the sides
     depth = 2e-6                  # m, from the surface to the rigid base
-    quarter = true                # symmetry planes through the axis
+    quarter = true                # symmetry planes x = 0 and y = 0 through the axis
+    half = false                  # or the one plane x = 0 (what a Berkovich tip allows)
     [loading]                     # indentation
     depth = 1e-7
     speed = 50.0                  # m/s
     hold_time = 0.0
+    unload = true                 # false: stop after the hold (loading curvature only)
     [impact]                      # impact
     mass = 2.6e-14                # kg
     velocity = 50.0               # m/s
@@ -132,14 +135,15 @@ def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImp
     data = check_keys("spec", data, {"name", "method", "tip", "target", "grid", section})
     for key in ("target", "grid", section):
         required("spec", data, key)
-    grid = check_keys("grid", data["grid"], {"spacing", "width", "depth", "quarter"})
+    grid = check_keys("grid", data["grid"], {"spacing", "width", "depth", "quarter", "half"})
     for key in ("spacing", "width", "depth"):
         required("grid", grid, key)
     grid = Grid(**grid)
     common = dict(name=str(data.get("name", kind)), method=data.get("method", "tlsph"),
                   target=_target(data["target"]), tip=data.get("tip", "sphere:1um"), grid=grid)
     if kind == "indent":
-        body = check_keys("loading", data[section], {"depth", "speed", "hold_time", "frames"})
+        body = check_keys("loading", data[section],
+                          {"depth", "speed", "hold_time", "frames", "unload"})
         for key in ("depth", "speed"):
             required("loading", body, key)
         return ParticleIndentSpec(loading=IndentLoading(**body), **common)

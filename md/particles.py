@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
-from filmscale.continuum.indentation.tips import Cone, Sphere, Tip, parse_tip
+from filmscale.continuum.indentation.tips import Cone, Sphere, SphericalCone, Tip, parse_tip
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
@@ -33,6 +33,13 @@ METHODS = ("tlsph", "peri")
 MIN_RADIUS_SPACINGS = 5.0
 #: Peridynamic horizon in spacings (the usual 3 dx; 3.015 avoids lattice round-off).
 PERI_HORIZON = 3.015
+#: Shallowest pyramid indent in spacings: an elastic Berkovich 1.2 spacings deep came 11 %
+#: under Sneddon's load, 2 spacings deep 2.6 % and 2.4 spacings 0.8 % (docs/particles.md).
+MIN_PYRAMID_DEPTH_SPACINGS = 2.0
+#: Face angles (between the axis and a face, degrees) of the three-sided pyramids the particle
+#: models build face by face: Berkovich 65.27 (A = 24.5 h^2) and the cube corner 35.26
+#: (arctan(1/sqrt 2), the cube's body diagonal as the axis).
+PYRAMID_FACE_ANGLES = {"berkovich": 65.27, "cube-corner": 35.2644}
 
 
 
@@ -113,16 +120,25 @@ class ParticleTarget:
                 "films": [{"thickness": t, **mat(m)} for t, m in self.films]}
 
 
+def is_pyramid(tip: Tip) -> bool:
+    """Whether the particle models build ``tip`` as a three-sided pyramid (Berkovich, cube
+    corner) rather than through its equivalent cone."""
+    return isinstance(tip, Cone) and tip.name in PYRAMID_FACE_ANGLES
+
+
 @dataclass(frozen=True)
 class Grid:
     """The particle block: cube lattice of ``spacing`` (m), ``width`` (m) from the axis to the
     lateral sides, ``depth`` (m) from the surface to the rigid base. ``quarter`` keeps one
-    quarter of the block (x, y >= 0) with symmetry planes through the axis."""
+    quarter of the block (x, y >= 0) with symmetry planes through the axis; ``half`` keeps
+    x >= 0 with the one symmetry plane x = 0, which is also a mirror plane of a Berkovich
+    pyramid (it holds one edge and bisects the opposite face)."""
 
     spacing: float
     width: float
     depth: float
     quarter: bool = True
+    half: bool = False
 
     def __post_init__(self):
         dx = _length("grid.spacing", self.spacing)
@@ -132,17 +148,28 @@ class Grid:
                 raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
                                  f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
         object.__setattr__(self, "quarter", bool(self.quarter))
+        object.__setattr__(self, "half", bool(self.half))
+        if self.quarter and self.half:
+            raise InputError("grid.quarter = true and grid.half = true: a block has one "
+                             "symmetry; valid: at most one of them true")
 
     @property
     def symmetry_factor(self) -> float:
-        """How many copies of the modelled block make the whole: 4 for a quarter model."""
-        return 4.0 if self.quarter else 1.0
+        """How many copies of the modelled block make the whole: 4 for a quarter model, 2 for
+        a half model."""
+        return 4.0 if self.quarter else 2.0 if self.half else 1.0
+
+    @property
+    def symmetric(self) -> bool:
+        return self.quarter or self.half
 
     def counts(self) -> tuple[int, int, int]:
-        """Lattice points along x (and y) and z."""
+        """Lattice points along x, y and z."""
         n_side = round(self.width / self.spacing)
-        nxy = n_side + 1 if self.quarter else 2 * n_side + 1
-        return nxy, nxy, round(self.depth / self.spacing) + 1
+        full = 2 * n_side + 1
+        nx = n_side + 1 if self.symmetric else full
+        ny = n_side + 1 if self.quarter else full
+        return nx, ny, round(self.depth / self.spacing) + 1
 
     @property
     def n_particles(self) -> int:
@@ -152,9 +179,28 @@ class Grid:
 
 def _tip(tip) -> Tip:
     tip = parse_tip(tip)
-    if not isinstance(tip, (Sphere, Cone)):
-        raise InputError(f"tip = {tip.spec!r}: particle models take a sphere or a cone")
+    if not isinstance(tip, (Sphere, Cone, SphericalCone)):
+        raise InputError(f"tip = {tip.spec!r}: particle models take a sphere, a cone, a "
+                         "sphero-conical tip or a sharp Berkovich or cube-corner pyramid")
+    if is_pyramid(tip) and tip.tip_radius > 0:
+        raise InputError(f"tip = {tip.spec!r}: particle models build sharp pyramids only; "
+                         "for a blunted tip use sphero-conical:R:THETA")
     return tip
+
+
+def contact_radius(tip: Tip, depth: float) -> float:
+    """The largest radius of the tip's cross-section at ``depth`` below its apex, m: for a
+    pyramid its edge (circumscribed) radius, twice the face (inscribed) one."""
+    if isinstance(tip, Sphere):
+        return math.sqrt(max(2 * tip.R * depth - depth**2, 0.0))
+    if is_pyramid(tip):
+        return 2 * depth * math.tan(math.radians(PYRAMID_FACE_ANGLES[tip.name]))
+    if isinstance(tip, SphericalCone):
+        if depth <= tip.transition_depth:
+            return math.sqrt(max(2 * tip.R * depth - depth**2, 0.0))
+        theta = math.radians(tip.half_angle)
+        return (depth + tip.R * (1 / math.sin(theta) - 1)) * math.tan(theta)
+    return depth * math.tan(math.radians(tip.half_angle))
 
 
 def _check_resolution(tip: Tip, grid: Grid, depth: float, method: str):
@@ -164,9 +210,12 @@ def _check_resolution(tip: Tip, grid: Grid, depth: float, method: str):
             raise InputError(
                 f"grid.spacing = {dx:g} m is too coarse for the sphere radius {tip.R:g} m; "
                 f"valid: spacing <= R/{MIN_RADIUS_SPACINGS:g} = {tip.R / MIN_RADIUS_SPACINGS:g} m")
-        contact = math.sqrt(max(2 * tip.R * depth - depth**2, 0.0))
-    else:
-        contact = depth * math.tan(math.radians(tip.half_angle))
+    if is_pyramid(tip) and depth < MIN_PYRAMID_DEPTH_SPACINGS * dx:
+        raise InputError(
+            f"grid.spacing = {dx:g} m is too coarse for a {tip.name} indent {depth:g} m deep: "
+            f"its faces are sampled by too few particles; valid: spacing <= depth/"
+            f"{MIN_PYRAMID_DEPTH_SPACINGS:g} = {depth / MIN_PYRAMID_DEPTH_SPACINGS:g} m")
+    contact = contact_radius(tip, depth)
     if method == "peri" and contact < PERI_HORIZON * dx:
         raise InputError(
             f"grid.spacing = {dx:g} m: the peridynamic horizon ({PERI_HORIZON:g} spacings = "
@@ -190,9 +239,10 @@ def _check_method(method: str, target: ParticleTarget, grid: Grid) -> str:
     if method == "tlsph" and target.layered:
         raise InputError("method = 'tlsph' cannot bond a film to a substrate (TLSPH bonds "
                          "one particle type per body); use method 'peri' for a layered target")
-    if method == "peri" and grid.quarter:
-        raise InputError("grid.quarter = true: the peridynamic model needs the full block "
-                         "(a symmetry plane cuts its bond families); set quarter = false")
+    if method == "peri" and grid.symmetric:
+        name = "quarter" if grid.quarter else "half"
+        raise InputError(f"grid.{name} = true: the peridynamic model needs the full block "
+                         f"(a symmetry plane cuts its bond families); set {name} = false")
     if method == "peri" and target.layered:
         off = [m.material.nu for m in target.materials if abs(m.material.nu - 0.25) > 0.03]
         if off:
@@ -210,13 +260,15 @@ def _check_method(method: str, target: ParticleTarget, grid: Grid) -> str:
 @dataclass(frozen=True)
 class IndentLoading:
     """Displacement control: down at ``speed`` (m/s) to ``depth`` (m), hold ``hold_time``
-    (s), back up at the same speed to the starting height. ``frames`` field snapshots are
-    written over the run."""
+    (s), back up at the same speed to the starting height (``unload = False`` ends the run
+    after the hold: what a loading curvature or an elastic check needs, at half the cost).
+    ``frames`` field snapshots are written over the run."""
 
     depth: float
     speed: float
     hold_time: float = 0.0
     frames: int = 6
+    unload: bool = True
 
     def __post_init__(self):
         _length("loading.depth", self.depth)
@@ -224,18 +276,23 @@ class IndentLoading:
         check_real("loading.hold_time", self.hold_time, low=0.0, high=1.0, unit="s")
         object.__setattr__(self, "frames", int(check_real("loading.frames", self.frames,
                                                           low=0, high=1000)))
+        if not isinstance(self.unload, bool):
+            raise InputError(f"loading.unload = {self.unload!r} is not true or false")
 
     @property
     def times(self) -> tuple[float, float, float]:
-        """End of loading, of the hold and of unloading, s."""
+        """End of loading, of the hold and of unloading (of the hold without one), s."""
         t1 = self.depth / self.speed
-        return t1, t1 + self.hold_time, 2 * t1 + self.hold_time
+        t2 = t1 + self.hold_time
+        return t1, t2, t2 + t1 if self.unload else t2
 
 
 @dataclass(frozen=True)
 class ParticleIndentSpec:
-    """A quasi-static indentation of a particle model. ``tip``: a `Sphere` or `Cone` of the
-    continuum package, or its text (``sphere:1um``, ``cone:70.3``)."""
+    """A quasi-static indentation of a particle model. ``tip``: a `Sphere`, `Cone` or
+    `SphericalCone` of the continuum package, or its text (``sphere:1um``, ``cone:70.3``,
+    ``sphero-conical:100nm:70.3``, ``berkovich``, ``cube-corner``); the two pyramids are
+    built face by face, not as their equivalent cones."""
 
     name: str
     method: str
@@ -247,6 +304,10 @@ class ParticleIndentSpec:
     def __post_init__(self):
         check_name("name", self.name)      # a folder name and a word of the input's comment
         object.__setattr__(self, "tip", _tip(self.tip))
+        if is_pyramid(self.tip) and self.grid.quarter:
+            raise InputError(f"grid.quarter = true: a {self.tip.name} pyramid has no quarter "
+                             "symmetry; valid: grid.half = true (the mirror plane x = 0) or "
+                             "the full block (quarter = false)")
         object.__setattr__(self, "method", _check_method(self.method, self.target,
                                                                 self.grid))
         _check_resolution(self.tip, self.grid, self.loading.depth, self.method)

@@ -428,7 +428,7 @@ def estimated_timestep(spec) -> float:
     0.75-1.0 of it in the R/8 runs), or the fixed PERI step. It sizes the record interval,
     the snapshot interval and the step bound of the run, not the integration."""
     c = max(m.wave_speed for m in spec.target.materials)
-    if spec.method == "tlsph":
+    if spec.method in ("tlsph", "ulsph"):
         return CFL * TLSPH_KERNEL * spec.grid.spacing / c
     return PERI_DT_FACTOR * spec.grid.spacing / c
 
@@ -474,6 +474,9 @@ def input_text(spec, version: str = "") -> str:
     """The complete LAMMPS input of ``spec`` (an indentation or an impact, either method)."""
     if spec.method == "tlsph":
         return _tlsph_input(spec, version)
+    if spec.method == "ulsph":
+        from filmscale.md.ulsph_inputs import ulsph_input
+        return ulsph_input(spec, version)
     return peri_input(spec, version)
 
 

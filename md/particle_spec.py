@@ -3,7 +3,7 @@
 A spec file (SI units throughout)::
 
     name = "al6061-sphere"
-    method = "tlsph"              # or "peri" (layered, elastic)
+    method = "tlsph"              # or "peri" (layered, elastic), "ulsph" (layered, plastic)
     tip = "sphere:1um"            # indentation also: "cone:70.3", "berkovich",
                                   # "cube-corner", "sphero-conical:100nm:70.3"
     [target.substrate]
@@ -12,7 +12,7 @@ A spec file (SI units throughout)::
     sigma_y = 284e6               # leave out for an elastic target
     n = 0.08
     density = 2700                # kg/m^3
-    [[target.films]]              # optional, top first (method "peri")
+    [[target.films]]              # optional, top first (method "peri" or "ulsph")
     thickness = 0.25e-6
     E = 200e9
     nu = 0.25

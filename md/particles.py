@@ -9,6 +9,9 @@ file (written by `filmscale.md.particle_inputs`):
   takes homogeneous targets only.
 - ``peri``: linear peridynamic solid of the PERI package (``pair_style peri/lps``), elastic,
   with the film and substrate bonded across their interface: the layered targets.
+- ``ulsph``: updated-Lagrangian SPH of MACHDYN (``pair_style smd/ulsph``), elastic or
+  elastic-perfectly plastic, homogeneous or layered (particles of different types interact,
+  so a film is bonded to its substrate); indentation only.
 
 Cost: the block is a cube lattice of spacing dx; a quarter model (symmetry planes x = 0 and
 y = 0, particles on them carrying half or a quarter of a cell) cuts the particle count by
@@ -26,7 +29,7 @@ from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
 from filmscale.potentials.lammps_words import check_name
 
-METHODS = ("tlsph", "peri")
+METHODS = ("tlsph", "peri", "ulsph")
 
 #: Coarsest spacing accepted: the sphere radius over at least this many spacings. Below it the
 #: contact at 0.1 R spans fewer than two particles and the load is lattice noise.
@@ -238,7 +241,8 @@ def _check_method(method: str, target: ParticleTarget, grid: Grid) -> str:
     method = check_choice("method", method, METHODS)
     if method == "tlsph" and target.layered:
         raise InputError("method = 'tlsph' cannot bond a film to a substrate (TLSPH bonds "
-                         "one particle type per body); use method 'peri' for a layered target")
+                         "one particle type per body); use method 'ulsph' or 'peri' for a "
+                         "layered target")
     if method == "peri" and grid.symmetric:
         name = "quarter" if grid.quarter else "half"
         raise InputError(f"grid.{name} = true: the peridynamic model needs the full block "
@@ -249,11 +253,17 @@ def _check_method(method: str, target: ParticleTarget, grid: Grid) -> str:
             raise InputError(f"nu = {off[0]:g}: the bonded layered peridynamic model "
                              "(peri/pmb) has Poisson's ratio 1/4; valid: nu in [0.22, 0.28] "
                              "for every layer")
+    if method == "ulsph":
+        hardening = [m.material for m in target.materials if not m.elastic and m.material.n > 0]
+        if hardening:
+            raise InputError(f"{hardening[0].name or 'material'}.n = {hardening[0].n:g}: "
+                             "method 'ulsph' models elastic-perfectly plastic materials "
+                             "(MACHDYN's ULSPH strength is linear plastic); valid: n = 0")
     if method == "peri" and not target.elastic:
         raise InputError("method = 'peri' models elastic targets only: peri/eps, its "
                          "elastic-plastic solid, returns NaN at the onset of yield in this "
-                         "LAMMPS version; use method 'tlsph' for a homogeneous "
-                         "elastic-plastic target")
+                         "LAMMPS version; use method 'tlsph' (homogeneous) or 'ulsph' "
+                         "(layered) for an elastic-plastic target")
     return method
 
 
@@ -346,6 +356,9 @@ class ParticleImpactSpec:
         object.__setattr__(self, "tip", tip)
         object.__setattr__(self, "method", _check_method(self.method, self.target,
                                                                 self.grid))
+        if self.method == "ulsph":
+            raise InputError("method = 'ulsph' models indentation only; valid for an impact: "
+                             "'tlsph' or 'peri'")
         check_real("mass", self.mass, low=1e-20, high=1e3, unit="kg")
         check_real("velocity", self.velocity, low=1e-6, high=1e3, unit="m/s")
         _check_resolution(tip, self.grid, self.hertz_approach, self.method)

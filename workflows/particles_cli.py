@@ -73,7 +73,7 @@ def add_commands(sub) -> None:
                                         "the HDF5 record (particles.h5 in the run directory).")
         q.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
         q.add_argument("--preset", help="ci, quick or research instead of a spec file")
-        q.add_argument("--method", choices=("tlsph", "peri"),
+        q.add_argument("--method", choices=("tlsph", "peri", "ulsph"),
                        help="override the spec's method")
         q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
         q.add_argument("--out", metavar="DIR",

@@ -295,3 +295,18 @@ def read_area_function(path, base=None):
     u = UNITS[unit]
     si = tuple(float(c) * u**(2.0 - p) for c, p in zip(coef, POLYNOMIAL_EXPONENTS))
     return PolynomialArea(si, berkovich() if base is None else base)
+
+
+def read_frame_compliance(path) -> float | None:
+    """The ``frame_compliance`` (m/N) an area file holds (`indent calibrate` writes it), or
+    None when it holds none."""
+    path = Path(path)
+    data = read_toml(path, "area file")
+    if "frame_compliance" not in data:
+        return None
+    value = data["frame_compliance"]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not 0.0 <= value <= 1.0:
+        raise InputError(f"area file {path}: frame_compliance = {value!r} must be a number of "
+                         "m/N in [0, 1]")
+    return float(value)

@@ -365,10 +365,18 @@ def _numeric_row(line: str, sep: str, decimal: str) -> int:
     return len(fields) if len(filled) >= 2 and all(_number(f, decimal) for f in filled) else 0
 
 
+_COMMA_NUMBER = re.compile(r"^[-+]?\d*,?\d+(?:[eE][-+]?\d+)?$")
+
+
 def _separator(line: str) -> str:
-    for sep in ("\t", ";", ","):
+    """Tab or ``;`` when present; a comma, unless blanks separate numbers with a decimal
+    comma (``1,5 2,25``)."""
+    for sep in ("\t", ";"):
         if sep in line:
             return sep
+    words = line.split()
+    if "," in line and not (len(words) >= 2 and all(map(_COMMA_NUMBER.match, words))):
+        return ","
     return " "
 
 
@@ -380,11 +388,14 @@ def _layout(lines, options: ReadOptions):
         line = lines[k].strip()
         if not line:
             continue
-        sep = options.setting("separator") or _separator(line)
+        following = [ln.strip() for ln in lines[k + 1:k + 4] if ln.strip()]
+        # the separator and decimal mark from the last of these rows: a first row of zeros
+        # ("0 0") tells neither
+        sep = options.setting("separator") or _separator(following[-1] if following else line)
         decimal = options.setting("decimal") or (
-            "," if sep != "," and re.search(r"\d,\d", line) else ".")
+            "," if sep != "," and any(re.search(r"\d,\d", ln) for ln in [line, *following])
+            else ".")
         width = _numeric_row(line, sep, decimal)
-        following = [ln for ln in lines[k + 1:k + 4] if ln.strip()]
         if width and all(_numeric_row(ln, sep, decimal) == width for ln in following):
             return k, sep, decimal
     raise InputError("no rows of numbers (three lines with the same number of numeric fields)")

@@ -1,11 +1,11 @@
 """Multi-cycle indents (load, partial unload, reload, ...): every unloading analysed.
 
 A multi-cycle test gives a depth profile from one indent: each partial unloading is fitted by
-Oliver-Pharr as if it ended its own test (Oliver & Pharr, J. Mater. Res. 19 (2004) 3, sec.
-"continuous stiffness" and multi-cycle loading; docs/indentation.md, "Multi-cycle tests").
-The unloading of cycle k starts at the largest load reached before it; the loading that
-precedes it is everything from the start of the test, or from the end of the previous
-unloading when an earlier cycle went deeper (decreasing-load cycles).
+Oliver-Pharr as if it ended its own test (Oliver & Pharr, J. Mater. Res. 19 (2004) 3, on
+multi-cycle loading; docs/indentation.md, "Multi-cycle tests"). The unloading of cycle k
+starts at the largest load reached before it; the loading that precedes it is everything
+from the start of the test, or from the end of the previous unloading when an earlier cycle
+went deeper (decreasing-load cycles).
 """
 
 from __future__ import annotations
@@ -16,34 +16,64 @@ import numpy as np
 
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.noise import noise_sigma
 
 from .curves import HOLD, LOAD, UNLOAD, UNLOADING_MIN_DROP, LoadDisplacementCurve
 from .oliver_pharr import OliverPharrResult, oliver_pharr
 from .tips import Tip, parse_tip
 
+NOISE_DROPS = 10.0      #: an unloading sheds at least this many standard deviations of noise
+
+
+def unloading_ranges(P, drop: float = UNLOADING_MIN_DROP) -> list[tuple[int, int]]:
+    """(peak, end) index pairs, end exclusive, of every unloading in a load record.
+
+    An unloading starts at the largest load since the previous one ended and counts once the
+    load falls below (1 - drop) of it; it ends at the lowest load before the load rises
+    again by ``drop`` of the peak. Both changes must also exceed ten times the load noise
+    (`core.noise.noise_sigma`), so noise at first contact makes no cycles. The hysteresis makes this independent of the load rate
+    (early cycles at 1 % of the final load unload slowly) and of noise below ``drop``.
+    """
+    P = np.asarray(P, dtype=float)
+    floor = NOISE_DROPS * noise_sigma(P)
+    out, top, k, n = [], 0, 0, P.size
+    while k < n:
+        if P[k] > P[top]:
+            top = k
+        elif P[top] - P[k] >= max(drop * P[top], floor) and P[top] > 0:
+            low = j = k
+            while j < n and P[j] <= P[low] + max(drop * P[top], floor):
+                low = j if P[j] < P[low] else low
+                j += 1
+            out.append((top, low + 1))
+            top = k = low + 1
+            continue
+        k += 1
+    return out
+
 
 def cycle_curves(curve: LoadDisplacementCurve) -> list[LoadDisplacementCurve]:
-    """One curve per unloading cycle: the loading envelope up to the cycle's peak and the
-    cycle's unloading (one curve for a single-cycle test). An unloading counts when it sheds at least 10 % of the load it
-    starts from (`curves.UNLOADING_MIN_DROP`), so dips in a noisy hold do not."""
+    """One curve per unloading cycle: the loading envelope up to the cycle's peak (labelled
+    load and hold) and the cycle's unloading (labelled unload); one curve for a
+    single-cycle test. Unloadings are found from the loads alone (`unloading_ranges`); a
+    hold at the peak stays before the unloading."""
     c = curve.finite()
     out, begin = [], 0
-    for label, start, stop in c.runs():
-        if label != UNLOAD or start == 0:
-            continue
-        top = int(np.argmax(c.P[begin:start])) + begin
-        if c.P[top] <= 0 or c.P[top] - np.min(c.P[start:stop]) < UNLOADING_MIN_DROP * c.P[top]:
-            continue
+    for top, stop in unloading_ranges(c.P):
+        while top + 1 < stop and c.segment[top + 1] == HOLD:     # unloading starts after it
+            top += 1
         # from the start when this cycle goes highest so far, else from its own reloading;
         # the loading keeps its envelope (points at the deepest depth so far), so earlier
         # unload-reload loops are not read as a loading that falls back
         first = 0 if c.P[top] >= np.max(c.P[:stop]) else begin
-        h_load = c.h[first:start]
+        h_load = c.h[first:top + 1]
         keep = np.concatenate([np.flatnonzero(h_load >= np.maximum.accumulate(h_load)) + first,
-                               np.arange(start, stop)])
+                               np.arange(top + 1, stop)])
+        seg = np.where(c.segment[keep] == HOLD, HOLD, LOAD).astype(np.int8)
+        seg[keep > top] = UNLOAD
         meta = {**c.meta, "cycle": len(out) + 1}
         out.append(LoadDisplacementCurve(
-            c.h[keep], c.P[keep], None if c.t is None else c.t[keep], c.segment[keep],
+            c.h[keep], c.P[keep], None if c.t is None else c.t[keep], seg,
             indenter=c.indenter, meta=meta))
         begin = stop
     return out

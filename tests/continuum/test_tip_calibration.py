@@ -78,14 +78,18 @@ def test_calibration_recovers_frame_and_area_then_measures_another_material(tmp_
 def test_noisy_multicycle_profile_is_flat_after_calibration():
     # load noise of 0.05 % of each test's largest load, as a quiet instrument
     cal = calibrate_tip(reference_curves(noise=5e-4), "fused-silica", terms=3)
-    assert cal.frame_compliance == pytest.approx(C_F, rel=0.05)
+    assert cal.h_c.size == 12               # the noise at first contact makes no cycle
+    assert cal.frame_compliance == pytest.approx(C_F, rel=0.05)      # measured: 2.4 %
     sample = synthetic_multicycle(150e9, 12e9, TRUE_AREA, frame_compliance=C_F, noise=5e-4,
                                   seed=7, h_c=np.geomspace(30 * NM, 300 * NM, 6))
     E_r = np.array([r.E_r for r in analyse_cycles(sample.frame_corrected(cal.frame_compliance),
                                                   cal.area)])
     slope = np.polyfit(np.log(np.geomspace(30, 300, 6)), E_r / 150e9, 1)[0]
-    # flat: no trend with depth beyond the scatter, every cycle within 3 % of the truth;
-    # the ideal tip reads a trend of E_r with depth of over 20 % across the same cycles
+    # flat: no trend with depth beyond the scatter, every cycle within 3 % of the truth. The
+    # shallowest cycle peaks at ~1/70 of the test's largest load, so the noise is ~3.5 % of
+    # its load, ~1 % in S after the 60-point unloading fit: 3 % is three of those (measured:
+    # 0.85 % at most, slope 0.002 per e-fold of depth). The ideal tip reads E_r 74 % high at
+    # 30 nm and 2 % low at 300 nm on the same cycles.
     assert abs(slope) < 0.01 and np.all(np.abs(E_r / 150e9 - 1) < 0.03)
     naive = np.array([r.E_r for r in analyse_cycles(sample, "berkovich")])
     assert naive.max() / naive.min() > 1.2

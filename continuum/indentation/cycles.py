@@ -31,8 +31,9 @@ def unloading_ranges(P, drop: float = UNLOADING_MIN_DROP) -> list[tuple[int, int
     An unloading starts at the largest load since the previous one ended and counts once the
     load falls below (1 - drop) of it; it ends at the lowest load before the load rises
     again by ``drop`` of the peak. Both changes must also exceed ten times the load noise
-    (`core.noise.noise_sigma`), so noise at first contact makes no cycles. The hysteresis makes this independent of the load rate
-    (early cycles at 1 % of the final load unload slowly) and of noise below ``drop``.
+    (`core.noise.noise_sigma`), so noise at first contact makes no cycles. The hysteresis
+    makes this independent of the load rate (early cycles at 1 % of the final load unload
+    slowly, which the rate-based labels of `curves.detect_segments` read as holds).
     """
     P = np.asarray(P, dtype=float)
     floor = NOISE_DROPS * noise_sigma(P)
@@ -79,7 +80,8 @@ def cycle_curves(curve: LoadDisplacementCurve) -> list[LoadDisplacementCurve]:
     return out
 
 
-def analyse_cycles(curve: LoadDisplacementCurve, tip: Tip | str, **kwargs) -> list[OliverPharrResult]:
+def analyse_cycles(curve: LoadDisplacementCurve, tip: Tip | str,
+                   **kwargs) -> list[OliverPharrResult]:
     """Oliver-Pharr result of every unloading cycle of ``curve``, in test order; ``kwargs``
     go to `oliver_pharr` (window, epsilon, beta, nu, ...). InputError when there is no
     unloading."""
@@ -98,7 +100,8 @@ def synthetic_multicycle(E_r, H, tip, *, h_c, m=1.5, unload_to=0.3, frame_compli
     Cycle k peaks at P_k = H A(h_c,k) and unloads along P = B_k (h - h_f,k)^m (as
     `curves.synthetic_curve`) down to ``unload_to`` P_k (the last cycle to zero); reloading
     retraces that elastic unloading to P_k, then loads on to the next peak with sqrt(P)
-    linear in h (Kick's law between peaks). ``frame_compliance`` (m/N) adds C_f P to every depth, as an instrument frame does.
+    linear in h (Kick's law between peaks). ``frame_compliance`` (m/N) adds C_f P to every
+    depth, as an instrument frame does.
 
     Parameters
     ----------

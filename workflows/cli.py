@@ -315,9 +315,7 @@ def _profile_table(profile, path: Path) -> None:
 
 def cmd_indent_analyze(args) -> int:
     from .indent import (UNREADABLE, AnalysisOptions, analyze_files, expand_inputs, options_dict,
-                         profile_of, resolve_tip, shallow_depth_correction)
-
-    from .indent import reader_options
+                         profile_of, reader_options, resolve_tip, shallow_depth_correction)
 
     frame = args.frame_compliance
     if frame is None and args.area_file:     # the compliance `indent calibrate` wrote with it

@@ -46,7 +46,7 @@ class AnalysisOptions:
     read_format: str = "auto"       #: instrument format (`vendors.FORMATS`)
     columns: str | None = None      #: column mapping, h=NAME[:UNIT],P=...,t=...
     read_options: str | None = None  #: TOML file of reader options (`vendors.read_options_file`)
-    cycles: bool = False            #: analyse every unloading cycle, not only the last
+    cycles: bool = False            #: every unloading cycle, not only the one from the peak
 
 
 @lru_cache(maxsize=4)

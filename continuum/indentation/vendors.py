@@ -427,7 +427,11 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
         units = [_unit(u) or None for u in _fields(lines[above[-1]], sep)] if two else []
     else:
         names, units = [str(k + 1) for k in range(width)], []
-    names = (names + [""] * width)[:width]
+    while names and not names[-1]:        # a trailing separator closes some headers
+        names.pop()
+    if len(names) != width:
+        raise InputError(f"{shown(path)}: its header names {len(names)} columns but its rows "
+                         f"hold {width} numbers")
     units = (units + [None] * width)[:width]
     picked = _pick_columns(names, units, options, path)
     body = []
@@ -457,4 +461,7 @@ def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadD
                          "read: save it as .xlsx")
     if suffix in EXCEL_SUFFIXES:
         return read_workbook(path, options)
+    if options is not None and options.format == "g200":
+        raise InputError(f"{shown(path)}: format g200 reads the .xlsx workbooks NanoSuite "
+                         "exports; give the workbook, or --format delimited for its text")
     return read_delimited(path, options)

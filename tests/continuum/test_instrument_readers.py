@@ -153,3 +153,22 @@ def test_bad_column_mapping_text():
     assert parse_columns("h=Depth (nm),P=2:uN") == (("h", "Depth (nm)", None), ("P", 2, "uN"))
     assert ReadOptions(format="anton-paar").setting("decimal") == ","      # the preset
     assert ReadOptions(format="anton-paar", decimal=".").setting("decimal") == "."
+
+
+def test_a_header_that_does_not_match_its_rows_is_refused(tmp_path):
+    # read leniently, the third column would be dropped without a word
+    f = tmp_path / "shifted.csv"
+    f.write_text("h [nm], P [uN]\n" + "\n".join(f"{k}, {k * k}, 7" for k in range(10)))
+    with pytest.raises(InputError, match="3 columns of numbers but its header names 2.*"
+                                         "header names 2 columns but its rows hold 3"):
+        read_curves(f)
+
+
+def test_named_formats(tmp_path):
+    write_anton_paar(tmp_path / "ap.txt", CURVE)
+    with pytest.raises(InputError, match="format g200 reads the .xlsx workbooks"):
+        read_curves(tmp_path / "ap.txt", ReadOptions(format="g200"))
+    with pytest.raises(InputError, match="is not a number|could not convert"):
+        read_curves(tmp_path / "ap.txt", ReadOptions(format="filmscale"))    # no fallback
+    curve = read_curves(tmp_path / "ap.txt", ReadOptions(format="anton-paar"))["ap"]
+    assert oliver_pharr(curve, "berkovich").E_r == pytest.approx(E_R, rel=KNOWN)

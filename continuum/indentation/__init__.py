@@ -3,9 +3,10 @@
 Curves and their checks (`curves`), readers and writers (`io`) and instrument exports
 (`vendors`), multi-cycle tests (`cycles`), one `Tip` type for every scale (`tips`) and its
 calibration with the frame compliance on a reference (`tip_calibration`), Oliver-Pharr
-with frame compliance and the shallow-depth correction (`oliver_pharr`), spherical tips and pop-in (`spherical`), the Nix-Gao size effect
-(`size_effect`), property profiles over depth (`property_profile`), and the sharp-tip
-reverse analysis of Dao et al. in the sub-package `reverse`. Equations: docs/physics.md
+with frame compliance and the shallow-depth correction (`oliver_pharr`), spherical tips
+and pop-in (`spherical`), the Nix-Gao size effect (`size_effect`), property profiles over
+depth (`property_profile`), and the sharp-tip reverse analysis of Dao et al. in the
+sub-package `reverse`. Equations: docs/physics.md
 sections 9-10. SI units.
 """
 

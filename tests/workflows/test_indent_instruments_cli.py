@@ -128,3 +128,26 @@ def test_calibrate_bad_options_exit_2(tmp_path, capsys, argv, message):
 
 def test_format_choices_match_the_readers():
     assert FORMAT_CHOICES == FORMATS
+
+
+def test_calibrate_area_only_as_json_from_text_read_with_a_reader_file(tmp_path, capsys):
+    lines = []
+    for k, curve in enumerate(reference_curves()):
+        f = tmp_path / f"silica{k}.dat"     # unit-less names: the reader file gives them
+        f.write_text("z;F\n" + "\n".join(f"{a:.12g};{b:.12g}".replace(".", ",")
+                                          for a, b in zip(curve.h * 1e9, curve.P * 1e3)))
+        lines.append(str(f))
+    reader = tmp_path / "reader.toml"
+    reader.write_text('[columns]\nh = "z"\nP = "F"\n[units]\nh = "nm"\nP = "mN"\n')
+    assert main(["indent", "calibrate", *lines, "--reader", str(reader), "--reference",
+                 "E=72GPa,nu=0.17", "--fit", "area", "--terms", "3", "--frame-compliance",
+                 str(C_F), "--json", "--out", str(tmp_path / "tip.toml")]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["frame_compliance"] == C_F and data["reference_E"] == 72e9       # SI
+    # C_f is given exactly: only the 12-digit text and the power-law refits (1e-8) stand
+    # between the files and the generating polynomial, so the area comes back within 1e-6;
+    # the coefficients within 1e-4, as C1 h and C2 h^(1/2) trade off a little
+    np.testing.assert_allclose(data["coefficients"], TRUE_AREA.coefficients, rtol=1e-4)
+    h = np.geomspace(20 * NM, 360 * NM, 10)
+    np.testing.assert_allclose(read_area_function(tmp_path / "tip.toml").area(h),
+                               TRUE_AREA.area(h), rtol=1e-6)

@@ -26,7 +26,7 @@ from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
-from . import calibrate_cli, md_cli, particles_cli, pipeline_cli
+from . import calibrate_cli, indent_calibrate, md_cli, particles_cli, pipeline_cli
 from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
                       plot_path, scene_files, text_kind)
 from .scene import MapSpec, Scene, load_scene
@@ -315,16 +315,23 @@ def _profile_table(profile, path: Path) -> None:
 
 def cmd_indent_analyze(args) -> int:
     from .indent import (UNREADABLE, AnalysisOptions, analyze_files, expand_inputs, options_dict,
-                         profile_of, resolve_tip, shallow_depth_correction)
+                         profile_of, reader_options, resolve_tip, shallow_depth_correction)
 
+    frame = args.frame_compliance
+    if frame is None and args.area_file:     # the compliance `indent calibrate` wrote with it
+        from filmscale.continuum.indentation.io import read_frame_compliance
+        frame = read_frame_compliance(args.area_file)
     options = AnalysisOptions(tip=args.tip, area_file=args.area_file, window=args.window,
                               epsilon=args.epsilon, beta=args.beta, nu=args.nu,
-                              frame_compliance=args.frame_compliance or 0.0,
-                              drift=not args.no_drift, plot_dir=args.plot)
+                              frame_compliance=frame or 0.0,
+                              drift=not args.no_drift, plot_dir=args.plot,
+                              read_format=args.format, columns=args.columns,
+                              read_options=args.reader, cycles=args.cycles)
     if args.tip:
         resolve_tip(options)           # a bad --tip or --area-file stops here, before any work
     elif args.area_file:
         raise InputError("--area-file needs --tip (the nominal tip it refines)")
+    reader_options(args.format, args.columns, args.reader)    # a bad mapping stops here too
     check_real("--window start", args.window[0], low=0.0, high=1.0, high_open=True)
     check_real("--window end", args.window[1], low=args.window[0], high=1.0, low_open=True)
     if args.nu is not None:
@@ -495,8 +502,10 @@ def build_parser() -> argparse.ArgumentParser:
     isub = indent.add_subparsers(dest="indent_command", required=True)
     p = isub.add_parser("analyze", help="Oliver-Pharr analysis of one or many curves",
                         description="Oliver-Pharr analysis of curve files (text with units in "
-                                    "the header, e.g. 'h [nm], P [uN], t [s]', or filmscale "
-                                    "HDF5) and of every curve file inside the folders given.")
+                                    "the header, e.g. 'h [nm], P [uN], t [s]', filmscale "
+                                    "HDF5, or instrument exports: G200/iMicro .xlsx, TriboScan "
+                                    ".txt/.hld, Anton Paar and other delimited text) and of "
+                                    "every curve file inside the folders given.")
     p.add_argument("files", nargs="+", metavar="FILES", help="curve files or folders")
     p.add_argument("--tip", help="berkovich, cube-corner, cone:THETA, sphere:R, "
                                  "sphero-conical:R[:THETA], flat:A (lengths in m or with nm/um); "
@@ -514,6 +523,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="frame compliance to remove, m/N")
     p.add_argument("--no-drift", action="store_true",
                    help="keep thermal drift (default: remove the drift of a low-load hold)")
+    indent_calibrate.add_reader_arguments(p)
+    p.add_argument("--cycles", action="store_true",
+                   help="analyse every unloading of multi-cycle tests: one record per cycle "
+                        "(NAME#1, NAME#2, ...), a depth profile from one indent")
     p.add_argument("--shallow-correction", action="store_true",
                    help="add the Yeo-Polycarpou hardness H_shallow when an elastic indent "
                         "is among the curves")
@@ -529,6 +542,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
     add_force_argument(p)
     p.set_defaults(func=cmd_indent_analyze)
+    indent_calibrate.add_parser(isub)
 
     p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",
                         description="Reverse analysis of sharp indentation (Dao et al. 2001): "

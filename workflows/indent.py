@@ -18,6 +18,7 @@ import numpy as np
 
 from filmscale.continuum.indentation import nix_gao_fit, oliver_pharr
 from filmscale.continuum.indentation.curves import drift_rate
+from filmscale.continuum.indentation.cycles import cycle_curves
 from filmscale.continuum.indentation.io import (CURVE_SUFFIXES, HDF5_SUFFIXES, read_area_function,
                                                 read_curves)
 from filmscale.continuum.indentation.oliver_pharr import elastic_indent, shallow_depth_hardness
@@ -42,6 +43,23 @@ class AnalysisOptions:
     frame_compliance: float = 0.0   #: m/N, removed before the analysis
     drift: bool = True              #: remove drift measured on a low-load hold, when present
     plot_dir: str | None = None
+    read_format: str = "auto"       #: instrument format (`vendors.FORMATS`)
+    columns: str | None = None      #: column mapping, h=NAME[:UNIT],P=...,t=...
+    read_options: str | None = None  #: TOML file of reader options (`vendors.read_options_file`)
+    cycles: bool = False            #: every unloading cycle, not only the one from the peak
+
+
+@lru_cache(maxsize=4)
+def reader_options(read_format: str, columns: str | None, read_options: str | None):
+    """The `ReadOptions` of the text the command line gives: the TOML file's, then the format
+    and the column mapping over it."""
+    from filmscale.continuum.indentation.vendors import (ReadOptions, parse_columns,
+                                                         read_options_file)
+    base = read_options_file(read_options) if read_options else ReadOptions()
+    fmt = read_format if read_format != "auto" else base.format
+    mapped = parse_columns(columns) if columns else base.columns
+    return ReadOptions(fmt, mapped, base.encoding, base.separator, base.decimal,
+                       base.header_rows, base.skip_rows)
 
 
 @lru_cache(maxsize=16)
@@ -94,13 +112,15 @@ def analyze_file(path, options: AnalysisOptions) -> list[dict]:
     """Oliver-Pharr records (plain dicts, SI) of every curve in one file."""
     path = Path(path)
     try:
-        curves = read_curves(path)
+        curves = read_curves(path, reader_options(options.read_format, options.columns,
+                                                  options.read_options))
     except InputError as err:
         return [{"name": path.stem, "file": str(path), "status": UNREADABLE,
                  "message": str(err), "flags": [UNREADABLE]}]
     records = []
     for name, curve in curves.items():
-        label = name if path.suffix.lower() not in HDF5_SUFFIXES else f"{path.stem}:{name}"
+        label = f"{path.stem}:{name}" if path.suffix.lower() in HDF5_SUFFIXES \
+            or name != path.stem else name
         record = {"name": label, "file": str(path)}
         try:
             tip = resolve_tip(options, curve.indenter)
@@ -113,19 +133,28 @@ def analyze_file(path, options: AnalysisOptions) -> list[dict]:
                     curve = curve.drift_corrected(rate)
                 except InputError:       # no low-load hold: nothing to correct
                     rate = None
-            result = oliver_pharr(curve, tip, window=options.window, epsilon=options.epsilon,
-                                  beta=options.beta, nu=options.nu)
+            parts = cycle_curves(curve) if options.cycles else [curve]
+            if not parts:
+                raise InputError("no unloading that sheds 10 % of its load: no cycle to "
+                                 "analyse")
+            results = [oliver_pharr(part, tip, window=options.window, epsilon=options.epsilon,
+                                    beta=options.beta, nu=options.nu) for part in parts]
         except InputError as err:
             records.append({**record, "status": UNREADABLE, "message": str(err),
                             "flags": [UNREADABLE]})
             continue
-        record.update(result.to_dict())
-        record["drift_rate"] = rate
-        records.append(record)
-        if options.plot_dir:
-            from .plots import plot_curve_analysis
-            plot_curve_analysis(curve, result, Path(options.plot_dir) / f"{_safe_name(label)}.png",
-                                title=label)
+        for k, (part, result) in enumerate(zip(parts, results)):
+            named = {**record, "name": f"{label}#{k + 1}"} if options.cycles else dict(record)
+            named.update(result.to_dict())
+            named["drift_rate"] = rate
+            if options.cycles:
+                named["cycle"] = k + 1
+            records.append(named)
+            if options.plot_dir:
+                from .plots import plot_curve_analysis
+                plot_curve_analysis(part, result,
+                                    Path(options.plot_dir) / f"{_safe_name(named['name'])}.png",
+                                    title=named["name"])
     return records
 
 

@@ -152,7 +152,8 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
 
 
 CURVE_FORMAT = "filmscale.curve/1"
-CURVE_SUFFIXES = (".csv", ".txt", ".dat", ".tsv")
+#: suffixes of curve files a folder is searched for (text, instrument workbooks and exports)
+CURVE_SUFFIXES = (".csv", ".txt", ".dat", ".tsv", ".hld", ".xlsx", ".xlsm", ".xls")
 HDF5_SUFFIXES = (".h5", ".hdf5")
 #: accepted header names of each curve column (case-insensitive)
 CURVE_COLUMNS = {
@@ -217,12 +218,36 @@ def read_curve_group(group) -> LoadDisplacementCurve:
                                  indenter=str(group.attrs.get("indenter", "")), meta=meta)
 
 
-def read_curves(path) -> dict[str, LoadDisplacementCurve]:
-    """Curves of a file by name: every curve group of an HDF5 file, or the one curve of a
-    text table (named by the file's stem)."""
+def read_curves(path, options=None) -> dict[str, LoadDisplacementCurve]:
+    """Curves of a file by name: every curve group of an HDF5 file, every test sheet of an
+    instrument workbook, or the one curve of a text table (named by the file's stem).
+
+    ``options`` (`vendors.ReadOptions`) names an instrument format or a column mapping. In
+    the default ``auto`` format a text file is read as the package's own table first and, when
+    that fails, as an instrument export (`vendors.read_instrument`); when both fail, the
+    InputError gives both reasons.
+    """
     path = Path(path)
-    if path.suffix.lower() not in HDF5_SUFFIXES:
-        return {path.stem: read_curve_text(path)}
+    suffix = path.suffix.lower()
+    if options is None:
+        from .vendors import ReadOptions
+        options = ReadOptions()
+    fmt = options.format
+    if suffix not in HDF5_SUFFIXES:
+        from . import vendors
+        if fmt == "filmscale":
+            return {path.stem: read_curve_text(path)}
+        if fmt != "auto" or options.columns or suffix in vendors.EXCEL_SUFFIXES + (".xls",):
+            return vendors.read_instrument(path, options)
+        try:
+            return {path.stem: read_curve_text(path)}
+        except InputError as native:
+            if not path.is_file() or path.stat().st_size > input_limit():
+                raise
+            try:
+                return vendors.read_instrument(path, options)
+            except InputError as err:
+                raise InputError(f"{native}; read as an instrument export: {err}") from None
 
     try:
         regular = stat.S_ISREG(path.stat().st_mode)
@@ -270,3 +295,18 @@ def read_area_function(path, base=None):
     u = UNITS[unit]
     si = tuple(float(c) * u**(2.0 - p) for c, p in zip(coef, POLYNOMIAL_EXPONENTS))
     return PolynomialArea(si, berkovich() if base is None else base)
+
+
+def read_frame_compliance(path) -> float | None:
+    """The ``frame_compliance`` (m/N) an area file holds (`indent calibrate` writes it), or
+    None when it holds none."""
+    path = Path(path)
+    data = read_toml(path, "area file")
+    if "frame_compliance" not in data:
+        return None
+    value = data["frame_compliance"]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not 0.0 <= value <= 1.0:
+        raise InputError(f"area file {path}: frame_compliance = {value!r} must be a number of "
+                         "m/N in [0, 1]")
+    return float(value)

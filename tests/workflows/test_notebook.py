@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-NOTEBOOKS = ["examples/calibration.ipynb"]
+NOTEBOOKS = ["examples/calibration.ipynb", "examples/instrument_data.ipynb"]
 
 
 @pytest.mark.parametrize("notebook", NOTEBOOKS)

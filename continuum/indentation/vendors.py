@@ -1,0 +1,467 @@
+"""Readers of instrument exports: KLA/Agilent G200 and iMicro workbooks, Hysitron/Bruker
+TriboScan text (``.txt``, ``.hld``), Anton Paar and any other delimited text.
+
+Every reader returns curves in SI (m, N, s), converted from the units the file states
+(``Depth (nm)``, ``Load [µN]``, a units row under the header) or the units a column mapping
+gives. What each layout looks like and how a column mapping is written: docs/indentation.md,
+"Instrument files".
+
+- **Workbooks** (``.xlsx``, read with pandas and openpyxl): every sheet whose header row names
+  a depth and a load column is one test (``Test 001``, ...); sheets such as ``Results`` are
+  passed over. A row of units may follow the header. A segment column (``Segment``,
+  ``Marker``) with text at the start of each segment (``Loading``, ``Hold``, ``Unloading``,
+  ``Reloading 2`` ...) labels the points, so multi-cycle tests keep their cycles.
+- **Delimited text**: the encoding (UTF-8, else Latin-1, as TriboScan writes ``µ``), the
+  separator (tab, ``;``, ``,`` or blanks) and the decimal mark (a comma where the separator is
+  not one) are found from the first rows of numbers; the line above them is the header, or
+  the two lines above when the lower one holds only units; lines before are a preamble.
+
+pandas and openpyxl are imported inside the functions that use them: the command line starts
+without them.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.core.errors import InputError
+from filmscale.core.files import input_limit, read_toml, shown
+
+from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
+
+FORMATS = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
+EXCEL_SUFFIXES = (".xlsx", ".xlsm")
+#: what each named format fixes before the rest is found from the file
+PRESETS = {
+    "hysitron": {"encoding": "latin-1", "separator": "\t"},
+    "anton-paar": {"separator": ";", "decimal": ","},
+}
+ROLES = ("h", "P", "t")
+#: header names of each column, most specific first (compared without case and unit)
+ALIASES = {
+    "h": ("displacement into surface", "depth", "indentation depth", "penetration depth",
+          "pd", "displacement", "disp", "h"),
+    "P": ("load on sample", "load", "normal force", "fn", "force", "p", "f"),
+    "t": ("time on sample", "time", "t"),
+}
+SEGMENT_NAMES = ("segment", "segment type", "marker")
+#: unit -> factor to SI, by role (a column whose unit is of another kind is not that role:
+#: TriboScan's ``Depth (V)`` beside ``Depth (nm)``)
+ROLE_UNITS = {
+    "h": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9, "A": 1e-10, "Å": 1e-10},
+    "P": {"N": 1.0, "mN": 1e-3, "uN": 1e-6, "µN": 1e-6, "nN": 1e-9},
+    "t": {"s": 1.0, "ms": 1e-3, "min": 60.0},
+}
+_KNOWN_UNITS = {u for units in ROLE_UNITS.values() for u in units} | {
+    "N/m", "GPa", "MPa", "Pa", "V", "mV", "nm/s", "mN/s", "uN/s", "µN/s", "1/s", "%", "-", "1",
+    "Hz", "°C", "C", "K"}
+_NAME_UNIT = re.compile(r"^(.*?)\s*(?:\[([^\]]*)\]|\(([^)]*)\))\s*$")
+
+
+def _unit(text) -> str:
+    """A unit as written, with the Greek mu made the micro sign and brackets dropped."""
+    text = str(text).strip().replace("\u03bc", "\u00b5")
+    return text[1:-1].strip() if text[:1] in "[(" and text[-1:] in "])" else text
+
+
+def split_name(text) -> tuple[str, str | None]:
+    """(name, unit) of a header cell: ``Depth (nm)`` -> (``Depth``, ``nm``)."""
+    text = str(text).strip()
+    match = _NAME_UNIT.match(text)
+    if match and match.group(1):
+        return match.group(1), _unit(match.group(2) or match.group(3) or "")
+    return text, None
+
+
+def _is_unit_row(cells) -> bool:
+    """True when every non-empty cell is a unit (a G200 units row, a two-row header)."""
+    seen = [_unit(c) for c in cells if str(c).strip() and str(c) != "nan"]
+    return bool(seen) and all(u in _KNOWN_UNITS for u in seen)
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """How to read instrument files (picklable: it travels to worker processes).
+
+    ``format`` is one of `FORMATS`; ``columns`` maps a role (h, P, t) to a header name
+    (compared without case and unit) or a 1-based column number, with an optional unit that
+    overrides the file's; the rest, None where the file is to tell.
+    """
+
+    format: str = "auto"
+    columns: tuple = ()            #: ((role, name or number, unit or None), ...)
+    encoding: str | None = None
+    separator: str | None = None   #: None: found; " " any run of blanks
+    decimal: str | None = None
+    header_rows: int | None = None   #: 1 or 2 (names, then units)
+    skip_rows: int | None = None     #: preamble lines before the header
+
+    def __post_init__(self):
+        if self.format not in FORMATS:
+            raise InputError(f"format = {self.format!r} is not one of {', '.join(FORMATS)}")
+        if self.decimal not in (None, ".", ","):
+            raise InputError(f"decimal = {self.decimal!r} must be '.' or ','")
+        if self.header_rows not in (None, 1, 2):
+            raise InputError(f"header_rows = {self.header_rows!r} must be 1 or 2")
+        if self.skip_rows is not None and not (isinstance(self.skip_rows, int)
+                                               and 0 <= self.skip_rows <= 10000):
+            raise InputError(f"skip_rows = {self.skip_rows!r} must be a whole number 0-10000")
+        if self.encoding is not None:
+            import codecs
+            try:
+                codecs.lookup(self.encoding)
+            except LookupError:
+                raise InputError(f"encoding = {self.encoding!r} is not a known text "
+                                 "encoding (utf-8, latin-1, cp1252, ...)") from None
+        for role, _, unit in self.columns:
+            if role not in ROLES:
+                raise InputError(f"column mapping: role {role!r} is not one of h, P, t")
+            if unit is not None and unit not in ROLE_UNITS[role]:
+                raise InputError(f"column mapping: unit {unit!r} of {role} is not one of "
+                                 f"{', '.join(ROLE_UNITS[role])}")
+
+    def setting(self, key):
+        """The option's value, else the named format's preset, else None."""
+        value = getattr(self, key)
+        return PRESETS.get(self.format, {}).get(key) if value is None else value
+
+
+def parse_columns(text: str) -> tuple:
+    """Column mapping from text such as ``h=Depth:nm,P=Load (uN),t=3:s``: role = header name
+    or 1-based column number, then ``:unit`` where the header gives none or a wrong one."""
+    out = []
+    for item in filter(str.strip, text.split(",")):
+        role, eq, rest = item.partition("=")
+        if not eq or not rest.strip():
+            raise InputError(f"--columns item {item!r} is not ROLE=NAME[:UNIT] (ROLE h, P, t)")
+        name, _, unit = rest.rpartition(":") if ":" in rest else (rest, "", "")
+        out.append((role.strip(), _column_key(name.strip()), _unit(unit) if unit else None))
+    return tuple(out)
+
+
+def _column_key(name):
+    return int(name) if name.isdigit() else name
+
+
+def read_options_file(path, base: ReadOptions | None = None) -> ReadOptions:
+    """`ReadOptions` from a small TOML file (keys of `ReadOptions`; ``[columns]`` maps a role
+    to a name or number, ``[units]`` a role to its unit)."""
+    data = read_toml(path, "reader options file")
+    allowed = {"format", "encoding", "separator", "decimal", "header_rows", "skip_rows",
+               "columns", "units"}
+    unknown = sorted(set(data) - allowed)
+    if unknown:
+        raise InputError(f"reader options file {shown(path)}: unknown key(s) "
+                         f"{', '.join(unknown)}; known: {', '.join(sorted(allowed))}")
+    columns, units = data.get("columns", {}), data.get("units", {})
+    if not isinstance(columns, dict) or not isinstance(units, dict):
+        raise InputError(f"reader options file {shown(path)}: columns and units must be tables")
+    mapped = tuple((role, _column_key(str(key)), units.get(role))
+                   for role, key in columns.items())
+    mapped += tuple((role, None, unit) for role, unit in units.items() if role not in columns)
+    base = base or ReadOptions()
+    kwargs = {k: data.get(k, getattr(base, k)) for k in
+              ("format", "encoding", "separator", "decimal", "header_rows", "skip_rows")}
+    return ReadOptions(columns=mapped or base.columns, **kwargs)
+
+
+# ---- columns -----------------------------------------------------------------------------
+
+def _pick_columns(names, units, options: ReadOptions, source) -> dict:
+    """{role: (column index, factor to SI)} for h, P and, when present, t."""
+    parsed = [split_name(n) for n in names]
+    labels = [p[0].strip().lower() for p in parsed]
+    units = [u if u is not None else p[1] for u, p in zip(units, parsed)]
+    mapping = {role: (key, unit) for role, key, unit in options.columns}
+    out = {}
+    for role in ROLES:
+        key, forced = mapping.get(role, (None, None))
+        if isinstance(key, int):
+            if not 1 <= key <= len(names):
+                raise InputError(f"{shown(source)}: column {key} of {role} is beyond its "
+                                 f"{len(names)} columns")
+            candidates = [key - 1]
+        elif key is not None:
+            want = split_name(key)[0].strip().lower()
+            candidates = [k for k, label in enumerate(labels) if label == want]
+            if not candidates:
+                raise InputError(f"{shown(source)}: no column named {key!r} for {role} (it has "
+                                 f"{', '.join(map(str, names))})")
+        else:
+            candidates = [k for alias in ALIASES[role] for k, label in enumerate(labels)
+                          if label == alias]
+        chosen = None
+        for k in candidates:
+            unit = forced or units[k]
+            if unit in ROLE_UNITS[role]:
+                chosen = (k, ROLE_UNITS[role][unit])
+                break
+        if chosen is None and candidates and role != "t":
+            k = candidates[0]
+            unit = forced or units[k]
+            raise InputError(f"{shown(source)}: column {names[k]!r} ({role}) has "
+                             f"{'no unit' if not unit else f'unit {unit!r}'}; give one of "
+                             f"{', '.join(ROLE_UNITS[role])} in the header or the column "
+                             f"mapping ({role}=NAME:UNIT)")
+        if chosen is None and role != "t":
+            raise InputError(f"{shown(source)}: no {role} column (names accepted: "
+                             f"{', '.join(ALIASES[role])}, or a column mapping; it has "
+                             f"{', '.join(map(str, names))})")
+        if chosen is not None:
+            out[role] = chosen
+    return out
+
+
+def _curve(frame, picked, source, meta, segment=None) -> LoadDisplacementCurve:
+    """A curve from the numeric columns of a DataFrame; rows without h and P are dropped."""
+    import pandas as pd
+
+    data = {role: pd.to_numeric(frame.iloc[:, k], errors="coerce").to_numpy(float) * factor
+            for role, (k, factor) in picked.items()}
+    keep = np.isfinite(data["h"]) & np.isfinite(data["P"])
+    if keep.sum() < 2:
+        raise InputError(f"{shown(source)}: fewer than 2 rows of numbers under the header")
+    t = data["t"][keep] if "t" in data else None
+    seg = segment[keep] if segment is not None else None
+    return LoadDisplacementCurve(data["h"][keep], data["P"][keep], t, seg, meta=meta)
+
+
+# ---- workbooks ------------------------------------------------------------------------------
+
+def _segment_labels(cells) -> np.ndarray | None:
+    """Per-row segment codes from marker text at segment starts (forward-filled); None when
+    the column has no markers or one that names no load, hold or unload."""
+    codes, current, seen = np.full(len(cells), -1, dtype=np.int8), None, False
+    for k, cell in enumerate(cells):
+        text = str(cell).strip().lower() if cell is not None else ""
+        if text and text != "nan":
+            seen = True
+            if "unload" in text:
+                current = UNLOAD
+            elif "hold" in text:
+                current = HOLD
+            elif "load" in text:
+                current = LOAD
+            else:
+                return None
+        if current is not None:
+            codes[k] = current
+    if not seen:
+        return None
+    codes[codes < 0] = LOAD          # rows before the first marker: the approach, loading
+    return codes
+
+
+def read_workbook(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
+    """Curves of an Excel workbook (G200/iMicro export), one per test sheet, by sheet name."""
+    import pandas as pd
+
+    options = options or ReadOptions()
+    path = Path(path)
+    _check_size(path)
+    try:
+        sheets = pd.read_excel(path, sheet_name=None, header=None, dtype=object,
+                               engine="openpyxl")
+    except Exception as err:  # openpyxl raises zipfile, KeyError, its own errors on bad files
+        raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xlsx): "
+                         f"{type(err).__name__}: {err}") from None
+    out, reasons = {}, []
+    for sheet, frame in sheets.items():
+        try:
+            out[str(sheet)] = _sheet_curve(frame, options, f"{path} sheet {sheet!r}",
+                                           {"source": str(path), "sheet": str(sheet),
+                                            "format": "workbook"})
+        except InputError as err:
+            reasons.append(str(err))
+    if not out:
+        raise InputError(f"workbook {shown(path)} holds no test sheet with depth and load "
+                         f"columns ({'; '.join(reasons) or 'it has no sheets'})")
+    return out
+
+
+def _sheet_curve(frame, options, source, meta) -> LoadDisplacementCurve:
+    rows = frame.to_numpy(dtype=object)
+    wanted = [split_name(key)[0].strip().lower() for _, key, _ in options.columns
+              if isinstance(key, str)]
+    header = None
+    for k in range(min(len(rows), 30)):
+        labels = [split_name(c)[0].strip().lower() for c in rows[k] if isinstance(c, str)]
+        if (all(w in labels for w in wanted) if wanted else
+                any(a in labels for a in ALIASES["h"]) and any(a in labels for a in ALIASES["P"])):
+            header = k
+            break
+    if header is None:
+        raise InputError(f"{source}: no header row naming depth and load")
+    names = ["" if not isinstance(c, str) else c for c in rows[header]]
+    first = header + 1
+    units = [None] * len(names)
+    if first < len(rows) and _is_unit_row(rows[first]):
+        units = [_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[first]]
+        first += 1
+    picked = _pick_columns(names, units, options, source)
+    body = frame.iloc[first:]
+    labels = [split_name(n)[0].strip().lower() for n in names]
+    segment = None
+    for k, label in enumerate(labels):
+        if label in SEGMENT_NAMES:
+            segment = _segment_labels(body.iloc[:, k].tolist())
+            break
+    return _curve(body, picked, source, meta, segment)
+
+
+# ---- delimited text ----------------------------------------------------------------------
+
+def _check_size(path: Path) -> None:
+    try:
+        size = path.stat().st_size
+    except OSError as err:
+        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
+    if size > input_limit():
+        raise InputError(f"{shown(path)} is larger than {input_limit()} bytes, the input size "
+                         "limit")
+
+
+def _decode(path: Path, encoding: str | None) -> str:
+    _check_size(path)
+    try:
+        data = path.read_bytes()
+    except OSError as err:
+        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
+    if b"\0" in data:
+        raise InputError(f"{shown(path)} is not text (it holds NUL bytes): export it as text "
+                         "or .xlsx")
+    for enc in ([encoding] if encoding else ["utf-8-sig", "latin-1"]):
+        try:
+            text = data.decode(enc)
+            break
+        except UnicodeDecodeError as err:
+            if encoding:
+                raise InputError(f"{shown(path)} is not {encoding} text: {err.reason} at "
+                                 f"byte {err.start}") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _fields(line: str, sep: str) -> list[str]:
+    return line.split() if sep == " " else [f.strip().strip('"') for f in line.split(sep)]
+
+
+def _number(field: str, decimal: str) -> bool:
+    try:
+        float(field.replace(",", ".") if decimal == "," else field)
+        return True
+    except ValueError:
+        return False
+
+
+def _numeric_row(line: str, sep: str, decimal: str) -> int:
+    """Number of fields when every non-empty field is a number (at least 2), else 0."""
+    fields = _fields(line, sep)
+    filled = [f for f in fields if f]
+    return len(fields) if len(filled) >= 2 and all(_number(f, decimal) for f in filled) else 0
+
+
+_COMMA_NUMBER = re.compile(r"^[-+]?\d*,?\d+(?:[eE][-+]?\d+)?$")
+
+
+def _separator(line: str) -> str:
+    """Tab or ``;`` when present; a comma, unless blanks separate numbers with a decimal
+    comma (``1,5 2,25``)."""
+    for sep in ("\t", ";"):
+        if sep in line:
+            return sep
+    words = line.split()
+    if "," in line and not (len(words) >= 2 and all(map(_COMMA_NUMBER.match, words))):
+        return ","
+    return " "
+
+
+def _layout(lines, options: ReadOptions):
+    """(first data line, separator, decimal mark) of delimited text."""
+    start = options.skip_rows + (options.header_rows or 1) if options.skip_rows is not None \
+        else 0
+    for k in range(start, len(lines)):
+        line = lines[k].strip()
+        if not line:
+            continue
+        following = [ln.strip() for ln in lines[k + 1:k + 4] if ln.strip()]
+        # the separator and decimal mark from the last of these rows: a first row of zeros
+        # ("0 0") tells neither
+        sep = options.setting("separator") or _separator(following[-1] if following else line)
+        decimal = options.setting("decimal") or (
+            "," if sep != "," and any(re.search(r"\d,\d", ln) for ln in [line, *following])
+            else ".")
+        width = _numeric_row(line, sep, decimal)
+        if width and all(_numeric_row(ln, sep, decimal) == width for ln in following):
+            return k, sep, decimal
+    raise InputError("no rows of numbers (three lines with the same number of numeric fields)")
+
+
+def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
+    """The curve of a delimited text export (TriboScan ``.txt``/``.hld``, Anton Paar, ...)."""
+    import pandas as pd
+
+    options = options or ReadOptions()
+    path = Path(path)
+    text = _decode(path, options.setting("encoding"))
+    lines = text.split("\n")
+    try:
+        first, sep, decimal = _layout(lines, options)
+    except InputError as err:
+        raise InputError(f"{shown(path)}: {err}") from None
+    above = [k for k in range(first) if lines[k].strip()]
+    if options.skip_rows is not None:
+        above = [k for k in above if k >= options.skip_rows]
+    if not above and not options.columns:
+        raise InputError(f"{shown(path)}: no header line above its numbers (give a column "
+                         "mapping with column numbers and units)")
+    two = options.header_rows == 2 or (options.header_rows is None and len(above) >= 2
+                                       and _is_unit_row(_fields(lines[above[-1]], sep)))
+    width = _numeric_row(lines[first].strip(), sep, decimal)
+    if above:
+        names = _fields(lines[above[-2] if two else above[-1]].strip().lstrip("#"), sep)
+        units = [_unit(u) or None for u in _fields(lines[above[-1]], sep)] if two else []
+    else:
+        names, units = [str(k + 1) for k in range(width)], []
+    while names and not names[-1]:        # a trailing separator closes some headers
+        names.pop()
+    if len(names) != width:
+        raise InputError(f"{shown(path)}: its header names {len(names)} columns but its rows "
+                         f"hold {width} numbers")
+    units = (units + [None] * width)[:width]
+    picked = _pick_columns(names, units, options, path)
+    body = []
+    for line in lines[first:]:       # the table ends at its first line that is not numbers
+        if not line.strip():
+            continue
+        if _numeric_row(line.strip(), sep, decimal) != width:
+            break
+        body.append(line.strip())
+    try:
+        frame = pd.read_csv(io.StringIO("\n".join(body)), header=None,
+                            sep=r"\s+" if sep == " " else sep, decimal=decimal,
+                            engine="python" if sep == " " else "c")
+    except (ValueError, pd.errors.ParserError) as err:
+        raise InputError(f"{shown(path)}: {err}") from None
+    meta = {"source": str(path), "format": "delimited", "separator": sep, "decimal": decimal}
+    return {path.stem: _curve(frame, picked, path, meta)}
+
+
+def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
+    """Curves of an instrument file by name: a workbook's test sheets or a text export's one
+    curve. InputError naming the file and why it cannot be read."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".xls":
+        raise InputError(f"{shown(path)} is an Excel 97-2003 workbook (.xls), which is not "
+                         "read: save it as .xlsx")
+    if suffix in EXCEL_SUFFIXES:
+        return read_workbook(path, options)
+    if options is not None and options.format == "g200":
+        raise InputError(f"{shown(path)}: format g200 reads the .xlsx workbooks NanoSuite "
+                         "exports; give the workbook, or --format delimited for its text")
+    return read_delimited(path, options)

@@ -17,6 +17,8 @@ Sweeps, each run printed with particles, steps, wall time and error:
   E = 70 GPa at R/10, divided by the same model's homogeneous E = 70 GPa block (which takes
   out PMB's own softness and the finite block), against the Gao weighting of the continuum
   package: P_layered/P_homogeneous against E_p,eff(a = sqrt(R h))/E_p,substrate.
+- ``tips``: elastic Berkovich (half model), 70.3 degree cone and sphero-conical tips 0.12 um
+  deep at three spacings, against Sneddon's solution on the block (`block_elastic_force`).
 - ``dao``: Al 6061-T6511 and Al 7075-T651 under a 70.3 degree cone (Berkovich equivalent):
   loading curvature C = P/h^2 against Dao's forward function and the measured C.
 
@@ -38,7 +40,8 @@ from filmscale.continuum.contact.hertz import hertz_force
 from filmscale.continuum.indentation.curves import LOAD
 from filmscale.continuum.indentation.reverse.functions import loading_curvature
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.md.particle_run import analyze_impact, block_hertz_force, run_particles
+from filmscale.md.particle_run import (analyze_impact, analyze_indent, block_hertz_force,
+                                       run_particles)
 from filmscale.md.particle_spec import hertz_mass
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
@@ -214,9 +217,30 @@ def layered_sweep(workdir, table):
         "particles", runs["layered"].spec.grid.n_particles)
 
 
+def tips_sweep(workdir, table):
+    """Elastic sharp and rounded tips on Al, 0.12 um deep at 60 m/s, loading only, block
+    1.2 um: the least-squares ratio of the load to Sneddon's solution on the block over
+    0.5-1 h_max (`analyze_indent`'s block_ratio); error = |ratio - 1|."""
+    print("\n## tips (elastic Al, 0.12 um deep, 60 m/s, loading only, block 1.2 um)")
+    row("tip", "model", "dx um", "particles", "steps", "wall s", "ratio to Sneddon on the block")
+    cases = [("berkovich", "half", 1e-7), ("berkovich", "half", 6e-8),
+             ("berkovich", "half", 5e-8), ("cone:70.3", "half", 1e-7),
+             ("cone:70.3", "quarter", 5e-8), ("sphero-conical:0.5um:70.3", "quarter", 5e-8)]
+    for tip, model, dx in cases:
+        grid = Grid(dx, 1.2e-6, 1.2e-6, quarter=model == "quarter", half=model == "half")
+        name = f"tip-{tip.split(':')[0]}-{model}-{dx * 1e9:g}nm"
+        spec = ParticleIndentSpec(name, "tlsph", ParticleTarget(AL), tip,
+                                  IndentLoading(1.2e-7, 60.0, frames=0, unload=False), grid)
+        out = analyze_indent(run_particles(spec, Path(workdir) / name))
+        row(tip, model, f"{dx * 1e6:g}", out.particles, out.steps, f"{out.wall_time:.1f}",
+            f"{out.block_ratio:.3f}")
+        table.append((f"{tip}, {model}, dx = {dx * 1e6:g} um", out.wall_time,
+                      abs(out.block_ratio - 1)))
+
+
 SWEEPS = {"spacing": spacing_sweep, "rate": rate_sweep, "symmetry": symmetry_sweep,
           "impact": impact_sweep, "plastic-impact": plastic_impact_sweep, "dao": dao_sweep,
-          "layered": layered_sweep}
+          "layered": layered_sweep, "tips": tips_sweep}
 
 
 def main(argv=None) -> int:

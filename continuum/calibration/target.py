@@ -36,6 +36,12 @@ from filmscale.continuum.materials import (ElasticPlastic, Layer, LayerStack,
 from filmscale.core.checks import THICKNESS_MAX, check_real
 from filmscale.core.errors import InputError
 
+#: what a tip is made of: rigid (the tips of MD and particle runs) or diamond (measured)
+TIP_MATERIALS = ("rigid", "diamond")
+#: how a sphere calibration places the contact zero: fitted with E* or fixed at the
+#: curve's h = 0
+CONTACT_ZEROS = ("fit", "fixed")
+
 
 @dataclass(frozen=True)
 class SphereTarget:

@@ -42,7 +42,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 from scipy.special import lambertw
 
@@ -377,6 +376,7 @@ class CylinderImpactModel:
         largest half-width b_max; loading and unloading times by quadrature of d(delta)/v in
         the variable b = b_max (1 - u^2), which removes the square-root singularity at the
         turning point."""
+        from scipy.integrate import quad
         V, R, m = self._inputs(velocity, radius, mass)
         tables = self.tables(R)
         L = self.length
@@ -436,6 +436,7 @@ class CylinderImpactModel:
         method : str
             A `scipy.integrate.solve_ivp` method.
         """
+        from scipy.integrate import solve_ivp
         V, R, m = self._inputs(velocity, radius, mass)
         rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
         check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))

@@ -45,7 +45,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from filmscale.core.checks import check_choice, check_int, check_real
 from filmscale.core.errors import InputError, ModelRangeError
@@ -217,6 +216,7 @@ def _result(normal, theta, mu, j, v_x, w, regime, path) -> ObliqueResult:
 def _integrate(model, hist, theta, mu, j, steps, springs) -> ObliqueResult:
     """The tangential motion stepped through the contact on the MDR spring line (module
     docstring) against the interpolated normal history."""
+    from scipy.interpolate import PchipInterpolator
     normal = hist.result
     R, m, V = normal.radius, normal.mass, normal.velocity
     v_t = V * math.tan(math.radians(theta))

@@ -18,8 +18,6 @@ import re
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.optimize import minimize_scalar
-from scipy.special import gammaln
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
@@ -48,7 +46,7 @@ def epsilon_from_exponent(m):
     it tends to 1 (flat punch) as m -> 1.
     """
     m = check_real("unloading exponent m", m, low=1.0, high=10.0, low_open=True)
-    ratio = math.exp(gammaln(m / (2.0 * (m - 1.0))) - gammaln(1.0 / (2.0 * (m - 1.0))))
+    ratio = math.exp(math.lgamma(m / (2.0 * (m - 1.0))) - math.lgamma(1.0 / (2.0 * (m - 1.0))))
     return float(m * (1.0 - 2.0 * ratio * (m - 1.0) / math.sqrt(math.pi)))
 
 
@@ -418,6 +416,7 @@ def fit_tip_radius(h_c, S, *, half_angle=BERKOVICH_CONE, beta=BETA_TRIANGULAR,
     A_i = (pi/4) (S_i / (beta E_r))^2 implied by the reference's known modulus; R is searched
     in log space within ``bounds`` (m).
     """
+    from scipy.optimize import minimize_scalar
     h_c, S = _reference_indents(h_c, S)
     A = reference_areas(S, beta=beta, reference=reference, indenter=indenter)
     lo = check_real("tip radius lower bound", bounds[0], low=LENGTH_RANGE[0], high=LENGTH_RANGE[1])

@@ -60,7 +60,7 @@ def cmd_calibrate(args) -> int:
 
 def add_commands(sub) -> None:
     from filmscale.continuum.calibration.result import EXCLUDES, NOISE_FACTOR
-    from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
+    from filmscale.continuum.calibration.target import CONTACT_ZEROS, TIP_MATERIALS
     from filmscale.continuum.contact.laws import LAW_NAMES
     p = sub.add_parser(
         "calibrate", help="E, sigma_y (and n) of a layer from curve files",

@@ -16,11 +16,11 @@ import sys
 import time
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from filmscale import __version__
-from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
-from filmscale.continuum.contact.oblique import oblique_map
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
@@ -29,7 +29,12 @@ from filmscale.core.jsonable import dumps
 from . import calibrate_cli, md_cli, particles_cli, pipeline_cli
 from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
                       plot_path, scene_files, text_kind)
-from .scene import MapSpec, Scene, load_scene
+
+if TYPE_CHECKING:
+    from .scene import Scene
+
+# The physics (scipy), the scene reader and the result files are imported inside each command,
+# so that `filmscale --help` and a usage error answer without loading them.
 
 #: what argparse takes for a value, not an option, after an option: a negative number in any
 #: form float() reads (-5e6, -1e-9, -.5, -inf) and a range or list that starts with one
@@ -93,6 +98,7 @@ def _history_csv(history, size, header: str, path: Path) -> None:
 
 
 def cmd_impact(args) -> int:
+    from .scene import load_scene
     scene = load_scene(args.scene)
     imp = scene.impactor
     def option(name, value, default, bounds, unit):
@@ -163,7 +169,11 @@ def _cylinder_impact(args, scene: Scene, V, R, m) -> int:
 
 
 def cmd_impact_map(args) -> int:
-    scene: Scene = load_scene(args.scene)
+    from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
+    from filmscale.continuum.contact.oblique import oblique_map
+
+    from .scene import MapSpec, load_scene
+    scene = load_scene(args.scene)
     cylinder = scene.impactor.shape == "cylinder"
     if cylinder and args.angle is not None:
         raise InputError("--angle maps oblique sphere impacts: a cylinder map is over (V, R) "
@@ -188,6 +198,8 @@ def cmd_impact_map(args) -> int:
         velocity, radius = spec.axes()
     oblique = np.any(np.asarray(angle) > 0)
     n_rows = np.size(angle) if args.angle is not None else radius.size
+    if not (args.out or args.plot):
+        raise InputError("impact-map writes --out MAP.h5, --plot MAP.png or both: give one")
     output_path("--out", args.out)
     plot_path("--plot", args.plot)
     if args.plot and (velocity.size < 2 or n_rows < 2):
@@ -231,15 +243,17 @@ def cmd_impact_map(args) -> int:
     described = {k: m.describe() | ({"friction": scene.friction,
                                      "inertia_factor": scene.impactor.inertia_factor}
                                     if oblique else {}) for k, m in models.items()}
-    out = write_impact_maps(args.out, maps, described,
-                            provenance(command=" ".join(sys.argv), scene_source=scene.source),
-                            scene.text)
+    out = None
+    if args.out:
+        out = write_impact_maps(args.out, maps, described,
+                                provenance(command=" ".join(sys.argv),
+                                           scene_source=scene.source), scene.text)
     if args.plot:
         from .plots import plot_impact_maps
         what = (f"cylinder L = {scene.impactor.length:g} m" if cylinder else scene.law.name)
         plot_impact_maps({label_of[k]: v for k, v in maps.items()}, args.plot,
                          title=scene.title or f"{what}, m = {scene.impactor.mass:g} kg")
-    summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
+    summary = {"out": str(out) if out else None, "plot": args.plot, "seconds": round(elapsed, 3),
                "points": int(velocity.size * n_rows)}
     for key, mp in maps.items():
         summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
@@ -254,7 +268,7 @@ def cmd_impact_map(args) -> int:
     if args.json:
         print(dumps(summary))
     else:
-        print(f"wrote {out}" + (f" and {args.plot}" if args.plot else "")
+        print(f"wrote {' and '.join(str(f) for f in (out, args.plot) if f)}"
               + f": {summary['points']} points per target in {elapsed:.2f} s")
         for key in maps:
             s = summary[key]
@@ -484,7 +498,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "oblique impacts with the scene's [contact] friction, about 0.5 s "
                            "per point that neither slides throughout nor lacks friction")
     p.add_argument("--spacing", choices=("log", "linear"), help="axis spacing (default log)")
-    p.add_argument("--out", required=True, metavar="MAP.h5", help="HDF5 result file")
+    p.add_argument("--out", metavar="MAP.h5", help="HDF5 result file (--out, --plot or both)")
     p.add_argument("--plot", metavar="MAP.png", help="contour plots")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     add_force_argument(p)
@@ -533,7 +547,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",
                         description="Reverse analysis of sharp indentation (Dao et al. 2001): "
                                     "from the loading curvature C, the unloading slope dP/dh, "
-                                    "W_p/W_t and the maximum depth h_m to E*, the 3.3 %% "
+                                    "W_p/W_t and the maximum depth h_m to E*, the 3.3 % "
                                     "representative stress sigma_r, n and sigma_y, each with "
                                     "its standard deviation (Monte Carlo over the inputs' "
                                     "standard deviations). With --C2/--tip2: dual indenter "

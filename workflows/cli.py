@@ -25,8 +25,10 @@ from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, chec
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
+from filmscale.core.quantities import eng
 
 from . import calibrate_cli, md_cli, particles_cli, pipeline_cli
+from .quantity_args import add_quantity_argument, convert_quantities, range_arg
 from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
                       plot_path, scene_files, text_kind)
 
@@ -272,8 +274,8 @@ def cmd_impact_map(args) -> int:
               + f": {summary['points']} points per target in {elapsed:.2f} s")
         for key in maps:
             s = summary[key]
-            print(f"  {label_of[key]}: largest approach {s['delta_max']:.4g} m, largest mean "
-                  f"pressure {s['mean_pressure_max']:.4g} Pa, smallest e_y "
+            print(f"  {label_of[key]}: largest approach {eng(s['delta_max'], 'm')}, largest "
+                  f"mean pressure {eng(s['mean_pressure_max'], 'Pa')}, smallest e_y "
                   f"{s['restitution_min']:.4f}, yielded at {s['yielded']} points, "
                   f"{s['out_of_range']} points beyond the model's range "
                   f"({maps[key].range_limit})")
@@ -469,9 +471,10 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Maxima of one normal impact (fast energy quadrature), or "
                                    "its time history with --history/--plot.")
     p.add_argument("scene", help="scene file (TOML)")
-    p.add_argument("--velocity", type=float, help="normal impact velocity V (m/s)")
-    p.add_argument("--radius", type=float, help="sphere radius R (m)")
-    p.add_argument("--mass", type=float, help="impacting mass m (kg)")
+    add_quantity_argument(p, "--velocity", "m/s",
+                          help="normal impact velocity V: m/s, or with units (0.5 m/s)")
+    add_quantity_argument(p, "--radius", "m", help="sphere radius R: m, or with units (10 um)")
+    add_quantity_argument(p, "--mass", "kg", help="impacting mass m: kg, or with units (1.6 mg)")
     p.add_argument("--angle", type=float, metavar="DEG",
                    help="incidence from the normal in degrees, V staying the normal speed: an "
                         "oblique impact with the scene's [contact] friction (default: the "
@@ -488,11 +491,13 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Impact maps of the layered target and of its bare "
                                    "substrate, to HDF5 (SI) and contour plots.")
     p.add_argument("scene", help="scene file (TOML)")
-    p.add_argument("--velocity", type=_range_arg, metavar="MIN:MAX:N",
-                   help="velocity axis in m/s (default: the scene's [map])")
+    add_quantity_argument(p, "--velocity", "m/s", type=range_arg, metavar="MIN:MAX:N",
+                          help="velocity axis in m/s or with units, 1mm/s:2m/s:60 (default: "
+                               "the scene's [map])")
     rows = p.add_mutually_exclusive_group()
-    rows.add_argument("--radius", type=_range_arg, metavar="MIN:MAX:N",
-                      help="radius axis in m (default: the scene's [map])")
+    add_quantity_argument(rows, "--radius", "m", type=range_arg, metavar="MIN:MAX:N",
+                          help="radius axis in m or with units, 1um:50um:60 (default: the "
+                               "scene's [map])")
     rows.add_argument("--angle", type=_range_arg, metavar="MIN:MAX:N",
                       help="incidence axis in degrees (linear) at the scene's radius instead: "
                            "oblique impacts with the scene's [contact] friction, about 0.5 s "
@@ -524,8 +529,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--beta", type=_constant_arg(("tip", "hay", "no-slip")), default="tip",
                    help="beta: tip (default), hay, no-slip, or a number")
     p.add_argument("--nu", type=float, help="sample Poisson ratio: adds E to the results")
-    p.add_argument("--frame-compliance", type=float, metavar="C_F",
-                   help="frame compliance to remove, m/N")
+    add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
+                          help="frame compliance to remove: m/N, or with units (0.2 nm/mN)")
     p.add_argument("--no-drift", action="store_true",
                    help="keep thermal drift (default: remove the drift of a low-load hold)")
     p.add_argument("--shallow-correction", action="store_true",
@@ -552,21 +557,27 @@ def build_parser() -> argparse.ArgumentParser:
                                     "its standard deviation (Monte Carlo over the inputs' "
                                     "standard deviations). With --C2/--tip2: dual indenter "
                                     "(Chollacoop, Dao & Suresh 2003). SI units.")
-    p.add_argument("--C", type=float, required=True, help="loading curvature P/h^2, Pa")
-    p.add_argument("--dPdh", type=float, required=True, help="initial unloading slope, N/m")
+    add_quantity_argument(p, "--C", "Pa", required=True,
+                          help="loading curvature P/h^2: Pa, or with units (30 GPa)")
+    add_quantity_argument(p, "--dPdh", "N/m", required=True,
+                          help="initial unloading slope: N/m, or with units (2e5 N/m)")
     p.add_argument("--WpWt", type=float, required=True, help="plastic over total work")
-    p.add_argument("--hm", type=float, required=True, help="maximum depth h_m, m")
+    add_quantity_argument(p, "--hm", "m", required=True,
+                          help="maximum depth h_m: m, or with units (500 nm)")
     p.add_argument("--tip", default="berkovich", help="berkovich (default) or cone:70.3")
-    for name, unit in (("C", "Pa"), ("dPdh", "N/m"), ("WpWt", "-"), ("hm", "m")):
-        p.add_argument(f"--{name}-std", type=float, default=0.0, dest=f"{name}_std",
-                       help=f"standard deviation of --{name}, {unit} (default 0)")
-    p.add_argument("--C2", type=float, help="second tip's loading curvature, Pa (dual indenter)")
-    p.add_argument("--C2-std", type=float, default=0.0, dest="C2_std",
-                   help="standard deviation of --C2, Pa")
+    p.add_argument("--WpWt-std", type=float, default=0.0, dest="WpWt_std",
+                   help="standard deviation of --WpWt (default 0)")
+    for name, unit in (("C", "Pa"), ("dPdh", "N/m"), ("hm", "m")):
+        add_quantity_argument(p, f"--{name}-std", unit, default=0.0, dest=f"{name}_std",
+                              help=f"standard deviation of --{name}, {unit} (default 0)")
+    add_quantity_argument(p, "--C2", "Pa",
+                          help="second tip's loading curvature, Pa (dual indenter)")
+    add_quantity_argument(p, "--C2-std", "Pa", default=0.0, dest="C2_std",
+                          help="standard deviation of --C2, Pa")
     p.add_argument("--tip2", help="second tip, cone:THETA with THETA in 50-80 deg")
     p.add_argument("--nu", type=float, default=0.3, help="sample Poisson ratio (default 0.3)")
-    p.add_argument("--E-i", type=float, default=1100e9, dest="E_i",
-                   help="indenter modulus, Pa (default 1100e9, as Dao et al.)")
+    add_quantity_argument(p, "--E-i", "Pa", default=1100e9, dest="E_i",
+                          help="indenter modulus, Pa (default 1100e9, as Dao et al.)")
     p.add_argument("--nu-i", type=float, default=0.07, dest="nu_i",
                    help="indenter Poisson ratio (default 0.07)")
     p.add_argument("--method", choices=("closed-form", "surrogate"), default="closed-form",
@@ -591,6 +602,7 @@ def main(argv=None) -> int:
     # are terminated and no half-written file is kept
     previous = signal.signal(signal.SIGTERM, _terminated)
     try:
+        convert_quantities(args)
         return args.func(args)
     except FilmscaleError as err:
         kind = "error: " if isinstance(err, InputError) else ""

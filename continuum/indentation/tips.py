@@ -22,6 +22,7 @@ import numpy as np
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.quantities import to_si
 
 BERKOVICH_AREA = 24.494     #: A / h_c^2 of the ideal Berkovich (65.27 deg face angle)
 BERKOVICH_CONE = 70.30      #: half-angle of the cone with the Berkovich area, degrees
@@ -439,16 +440,15 @@ TIP_FORMS = ("berkovich[:R0]", "cube-corner[:R0]", "cone:THETA[:R0]", "sphere:R"
 
 
 def parse_length(text: str, what: str) -> float:
-    """A length in m from text such as 250nm, 5um, 2e-6 (m when no unit)."""
+    """A length in m from text such as 250nm, 5um, 2e-6 (m when no unit), or any length
+    pint reads ("5 µm", "0.5 mil")."""
     match = _NUMBER.match(text)
-    if not match or match.group(2) not in ("", *_LENGTH_UNITS):
-        raise InputError(f"{what} = {text!r} is not a length (a number in m, or with a unit "
-                         f"nm, um, mm)")
-    try:
-        value = float(match.group(1))
-    except ValueError:
-        raise InputError(f"{what} = {text!r} is not a number") from None
-    return value * _LENGTH_UNITS.get(match.group(2) or "m")
+    if match and match.group(2) in ("", *_LENGTH_UNITS):
+        try:        # the common units without pint: tips are parsed once per curve
+            return float(match.group(1)) * _LENGTH_UNITS.get(match.group(2) or "m")
+        except ValueError:
+            pass
+    return to_si(what, text, "m")
 
 
 def _truncation(text: str) -> float:

@@ -101,11 +101,11 @@ class ObliqueResult:
             self.normal.summary(),
             f"  oblique: angle {self.angle:g} deg, mu = {self.friction:g}, "
             f"I = {self.inertia_factor:g} m R^2 ({self.path})",
-            f"  tangential restitution e_x      {self.restitution_tangential:.6f}",
-            f"  contact-point restitution e_c   {self.restitution_contact_point:.6f}",
-            f"  impulse ratio J_t/J_n           {self.impulse_ratio:.6f}",
-            f"  rebound angle                   {self.rebound_angle:.4f} deg",
-            f"  spin                            {self.spin:.6g} rad/s",
+            f"  tangential restitution e_x      {self.restitution_tangential:.4f}",
+            f"  contact-point restitution e_c   {self.restitution_contact_point:.4f}",
+            f"  impulse ratio J_t/J_n           {self.impulse_ratio:.4f}",
+            f"  rebound angle                   {self.rebound_angle:.4g} deg",
+            f"  spin                            {self.spin:.4g} rad/s",
             f"  tangential regime               {self.regime_tangential}"])
 
 

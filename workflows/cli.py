@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from filmscale import __version__
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
@@ -42,6 +41,15 @@ if TYPE_CHECKING:
 #: form float() reads (-5e6, -1e-9, -.5, -inf) and a range or list that starts with one
 #: (-1:1:3); argparse's own pattern knows only -5 and -.5
 NEGATIVE_VALUE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
+class _Version(argparse.Action):
+    """--version, reading the version only when asked (importlib.metadata is slow)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from filmscale import __version__
+        print(f"filmscale {__version__}")
+        parser.exit()
 
 
 class Parser(argparse.ArgumentParser):
@@ -464,7 +472,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="filmscale",
         description="Multiscale contact, indentation and impact analysis of thin films.")
-    parser.add_argument("--version", action="version", version=f"filmscale {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and exit")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("impact", help="one normal impact of the scene's sphere or cylinder",

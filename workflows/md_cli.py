@@ -104,6 +104,9 @@ def cmd_potentials(args) -> int:
 #: the built-in specs of `md indent` and `particles` (md.spec.PRESETS and
 #: md.particle_spec.PRESETS, named here so that --help does not import the MD layer)
 PRESET_NAMES = ("ci", "quick", "research")
+#: shown in the help; not argparse choices, so that a wrong name is the presets' own
+#: InputError (exit 2 from main, as every bad input)
+PRESET_METAVAR = "{" + ",".join(PRESET_NAMES) + "}"
 
 
 def add_commands(sub) -> None:
@@ -114,9 +117,9 @@ def add_commands(sub) -> None:
                         description="Run (or resume, with the same --out) an MD indentation, "
                                     "analyse its curve and write the HDF5 record.")
     p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
-    p.add_argument("--preset", choices=PRESET_NAMES, help="a built-in spec instead of a spec "
-                   "file: ci (seconds), quick (minutes on 2 cores) or research (sizes for a "
-                   "study, for MPI on many cores)")
+    p.add_argument("--preset", metavar=PRESET_METAVAR,
+                   help="a built-in spec instead of a spec file: ci (seconds), quick (minutes "
+                        "on 2 cores) or research (sizes for a study, for MPI on many cores)")
     p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")

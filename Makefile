@@ -30,6 +30,7 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -m ""
 
 benchmark: $(STAMP)
+	$(BIN)/python benchmarks/startup.py
 	$(BIN)/python benchmarks/impact_speed_vs_error.py
 	$(BIN)/python benchmarks/indentation_speed.py
 	$(BIN)/python benchmarks/md_overhead.py

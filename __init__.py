@@ -14,11 +14,17 @@ The package follows the data flow of a study, from atoms to the impact of a slid
 See docs/architecture.md for the layers and docs/api.md for the public names.
 """
 
-from importlib import metadata as _metadata
-
-try:
-    __version__ = _metadata.version("filmscale")
-except _metadata.PackageNotFoundError:      # a source tree without an install
-    __version__ = "0+unknown"
-
 __all__ = ["__version__"]
+
+
+def __getattr__(name: str):
+    # the version is read on first use: importlib.metadata costs a tenth of `filmscale --help`
+    if name != "__version__":
+        raise AttributeError(f"module 'filmscale' has no attribute {name!r}")
+    from importlib import metadata
+    try:
+        version = metadata.version("filmscale")
+    except metadata.PackageNotFoundError:      # a source tree without an install
+        version = "0+unknown"
+    globals()["__version__"] = version
+    return version

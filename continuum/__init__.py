@@ -14,14 +14,21 @@ The names below are the ones most studies need; each sub-package lists its own.
 See docs/api.md.
 """
 
-from filmscale.continuum.calibration import Calibration, calibrate_sharp, calibrate_sphere
-from filmscale.continuum.contact import (ImpactModel, StackProfile, contact_law, elastic_impact,
-                                         impact_map, solve_impact)
-from filmscale.continuum.indentation import (LoadDisplacementCurve, Tip, hertz_fit, oliver_pharr,
-                                             parse_tip, read_curves)
-from filmscale.continuum.indentation.reverse import dao_forward, dao_reverse
-from filmscale.continuum.materials import (DIAMOND, ElasticPlastic, Layer, LayerStack,
-                                           reduced_modulus)
+from filmscale.core.lazy import lazy_exports
+
+#: public name -> the submodule that defines it (imported on first use, so that the
+#: command line starts without loading scipy's heavier parts)
+_WHERE = {
+    "Calibration": "calibration", "calibrate_sharp": "calibration",
+    "calibrate_sphere": "calibration",
+    "ImpactModel": "contact", "StackProfile": "contact", "contact_law": "contact",
+    "elastic_impact": "contact", "impact_map": "contact", "solve_impact": "contact",
+    "LoadDisplacementCurve": "indentation", "Tip": "indentation", "hertz_fit": "indentation",
+    "oliver_pharr": "indentation", "parse_tip": "indentation", "read_curves": "indentation",
+    "dao_forward": "indentation.reverse", "dao_reverse": "indentation.reverse",
+    "DIAMOND": "materials", "ElasticPlastic": "materials", "Layer": "materials",
+    "LayerStack": "materials", "reduced_modulus": "materials",
+}
 
 __all__ = [
     "ElasticPlastic", "Layer", "LayerStack", "DIAMOND", "reduced_modulus",
@@ -31,3 +38,5 @@ __all__ = [
     "contact_law", "StackProfile", "ImpactModel", "solve_impact", "impact_map",
     "elastic_impact",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -25,6 +25,7 @@ from filmscale.continuum.indentation.tips import Cone, Sphere, SphericalCone
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.core.quantities import eng
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.lammps_input import write_input
 from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, estimated_steps,
@@ -297,9 +298,9 @@ class IndentResult(_Figures):
     def summary(self) -> str:
         closed = "Hertz" if math.isfinite(self.hertz_ratio) else "Sneddon"
         ratio = self.hertz_ratio if closed == "Hertz" else self.sneddon_ratio
-        return (f"P_max {self.P_max:.4g} N at h_max {self.h_max:.4g} m; loading curvature "
-                f"C = P/h^2 {self.C / 1e9:.4g} GPa; residual depth "
-                f"{self.residual_depth:.4g} m; {closed} ratio {ratio:.3f} "
+        return (f"P_max {eng(self.P_max, 'N')} at h_max {eng(self.h_max, 'm')}; loading "
+                f"curvature C = P/h^2 {eng(self.C, 'Pa')}; residual depth "
+                f"{eng(self.residual_depth, 'm')}; {closed} ratio {ratio:.3f} "
                 f"(finite block {self.block_ratio:.3f}); {self.particles} particles, "
                 f"{self.steps} steps, {self.wall_time:.1f} s")
 
@@ -366,10 +367,11 @@ class ImpactOutcome(_Figures):
     wall_time: float
 
     def summary(self) -> str:
-        return (f"delta_max {self.delta_max:.4g} m (Hertz {self.hertz_delta_max:.4g}); "
-                f"P_max {self.P_max:.4g} N (Hertz {self.hertz_force_max:.4g}); restitution "
-                f"{self.restitution:.3f}; residual depth {self.residual_depth:.3g} m; "
-                f"contact {self.contact_time:.4g} s (Hertz {self.hertz_contact_time:.4g}); "
+        return (f"delta_max {eng(self.delta_max, 'm')} (Hertz {eng(self.hertz_delta_max, 'm')}); "
+                f"P_max {eng(self.P_max, 'N')} (Hertz {eng(self.hertz_force_max, 'N')}); "
+                f"restitution {self.restitution:.3f}; residual depth "
+                f"{eng(self.residual_depth, 'm', 3)}; contact {eng(self.contact_time, 's')} "
+                f"(Hertz {eng(self.hertz_contact_time, 's')}); "
                 f"{self.particles} particles, {self.steps} steps, {self.wall_time:.1f} s")
 
 

@@ -9,16 +9,21 @@ import sys
 from filmscale.core.errors import InputError
 from filmscale.core.jsonable import dumps
 
+from .quantity_args import add_quantity_argument
+
 
 def _substrate_arg(text: str):
-    """E,nu[,sigma_y] in Pa: the substrate under a film."""
+    """E,nu[,sigma_y] in Pa or with units ("90 GPa,0.25,2 GPa"): the substrate under a film."""
     from filmscale.continuum.materials import ElasticPlastic
+    from filmscale.core.quantities import to_si
+    parts = text.split(",")
     try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected E,nu[,sigma_y] (Pa), got {text!r}") \
-            from None
-    if len(values) not in (2, 3):
+        values = [float(to_si(f"--substrate {name}", v, unit))
+                  for v, name, unit in zip(parts, ("E", "nu", "sigma_y"), ("Pa", "", "Pa"))]
+    except (InputError, ValueError) as err:
+        raise argparse.ArgumentTypeError(f"expected E,nu[,sigma_y] (Pa or with units), got "
+                                         f"{text!r}: {err}") from None
+    if len(parts) not in (2, 3):
         raise argparse.ArgumentTypeError(f"expected E,nu[,sigma_y] (Pa), got {text!r}")
     try:
         return ElasticPlastic(*values, name="substrate")
@@ -60,7 +65,7 @@ def cmd_calibrate(args) -> int:
 
 def add_commands(sub) -> None:
     from filmscale.continuum.calibration.result import EXCLUDES, NOISE_FACTOR
-    from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
+    from filmscale.continuum.calibration.target import CONTACT_ZEROS, TIP_MATERIALS
     from filmscale.continuum.contact.laws import LAW_NAMES
     p = sub.add_parser(
         "calibrate", help="E, sigma_y (and n) of a layer from curve files",
@@ -74,11 +79,12 @@ def add_commands(sub) -> None:
                                  "(default: each curve's own)")
     p.add_argument("--tip-material", choices=TIP_MATERIALS, default="diamond",
                    help="rigid (MD and particle runs) or diamond (default, measured curves)")
-    p.add_argument("--film-thickness", type=float, metavar="T",
-                   help="the layer is a film of thickness T (m) on --substrate")
+    add_quantity_argument(p, "--film-thickness", "m", metavar="T",
+                          help="the layer is a film of thickness T (m, or with units: 1 um) "
+                               "on --substrate")
     p.add_argument("--substrate", type=_substrate_arg, metavar="E,nu[,sigma_y]",
-                   help="the substrate under the film, Pa (without sigma_y it takes the "
-                        "film's)")
+                   help="the substrate under the film, Pa or with units: 90GPa,0.25,2GPa "
+                        "(without sigma_y it takes the film's)")
     p.add_argument("--law", choices=LAW_NAMES, default="komvopoulos-ye-continuous",
                    help="sphere contact law (default komvopoulos-ye-continuous)")
     p.add_argument("--contact-zero", choices=CONTACT_ZEROS,

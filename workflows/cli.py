@@ -16,25 +16,40 @@ import sys
 import time
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from filmscale import __version__
-from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
-from filmscale.continuum.contact.oblique import oblique_map
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
+from filmscale.core.quantities import eng
 
 from . import calibrate_cli, indent_calibrate, md_cli, particles_cli, pipeline_cli
+from .quantity_args import add_quantity_argument, convert_quantities, range_arg
 from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
                       plot_path, scene_files, text_kind)
-from .scene import MapSpec, Scene, load_scene
+
+if TYPE_CHECKING:
+    from .scene import Scene
+
+# The physics (scipy), the scene reader and the result files are imported inside each command,
+# so that `filmscale --help` and a usage error answer without loading them.
 
 #: what argparse takes for a value, not an option, after an option: a negative number in any
 #: form float() reads (-5e6, -1e-9, -.5, -inf) and a range or list that starts with one
 #: (-1:1:3); argparse's own pattern knows only -5 and -.5
 NEGATIVE_VALUE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
+class _Version(argparse.Action):
+    """--version, reading the version only when asked (importlib.metadata is slow)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from filmscale import __version__
+        print(f"filmscale {__version__}")
+        parser.exit()
 
 
 class Parser(argparse.ArgumentParser):
@@ -93,6 +108,7 @@ def _history_csv(history, size, header: str, path: Path) -> None:
 
 
 def cmd_impact(args) -> int:
+    from .scene import load_scene
     scene = load_scene(args.scene)
     imp = scene.impactor
     def option(name, value, default, bounds, unit):
@@ -163,7 +179,11 @@ def _cylinder_impact(args, scene: Scene, V, R, m) -> int:
 
 
 def cmd_impact_map(args) -> int:
-    scene: Scene = load_scene(args.scene)
+    from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
+    from filmscale.continuum.contact.oblique import oblique_map
+
+    from .scene import MapSpec, load_scene
+    scene = load_scene(args.scene)
     cylinder = scene.impactor.shape == "cylinder"
     if cylinder and args.angle is not None:
         raise InputError("--angle maps oblique sphere impacts: a cylinder map is over (V, R) "
@@ -188,6 +208,8 @@ def cmd_impact_map(args) -> int:
         velocity, radius = spec.axes()
     oblique = np.any(np.asarray(angle) > 0)
     n_rows = np.size(angle) if args.angle is not None else radius.size
+    if not (args.out or args.plot):
+        raise InputError("impact-map writes --out MAP.h5, --plot MAP.png or both: give one")
     output_path("--out", args.out)
     plot_path("--plot", args.plot)
     if args.plot and (velocity.size < 2 or n_rows < 2):
@@ -231,15 +253,17 @@ def cmd_impact_map(args) -> int:
     described = {k: m.describe() | ({"friction": scene.friction,
                                      "inertia_factor": scene.impactor.inertia_factor}
                                     if oblique else {}) for k, m in models.items()}
-    out = write_impact_maps(args.out, maps, described,
-                            provenance(command=" ".join(sys.argv), scene_source=scene.source),
-                            scene.text)
+    out = None
+    if args.out:
+        out = write_impact_maps(args.out, maps, described,
+                                provenance(command=" ".join(sys.argv),
+                                           scene_source=scene.source), scene.text)
     if args.plot:
         from .plots import plot_impact_maps
         what = (f"cylinder L = {scene.impactor.length:g} m" if cylinder else scene.law.name)
         plot_impact_maps({label_of[k]: v for k, v in maps.items()}, args.plot,
                          title=scene.title or f"{what}, m = {scene.impactor.mass:g} kg")
-    summary = {"out": str(out), "plot": args.plot, "seconds": round(elapsed, 3),
+    summary = {"out": str(out) if out else None, "plot": args.plot, "seconds": round(elapsed, 3),
                "points": int(velocity.size * n_rows)}
     for key, mp in maps.items():
         summary[key] = {"out_of_range": int(mp.out_of_range.sum()),
@@ -254,12 +278,12 @@ def cmd_impact_map(args) -> int:
     if args.json:
         print(dumps(summary))
     else:
-        print(f"wrote {out}" + (f" and {args.plot}" if args.plot else "")
+        print(f"wrote {' and '.join(str(f) for f in (out, args.plot) if f)}"
               + f": {summary['points']} points per target in {elapsed:.2f} s")
         for key in maps:
             s = summary[key]
-            print(f"  {label_of[key]}: largest approach {s['delta_max']:.4g} m, largest mean "
-                  f"pressure {s['mean_pressure_max']:.4g} Pa, smallest e_y "
+            print(f"  {label_of[key]}: largest approach {eng(s['delta_max'], 'm')}, largest "
+                  f"mean pressure {eng(s['mean_pressure_max'], 'Pa')}, smallest e_y "
                   f"{s['restitution_min']:.4f}, yielded at {s['yielded']} points, "
                   f"{s['out_of_range']} points beyond the model's range "
                   f"({maps[key].range_limit})")
@@ -455,16 +479,18 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="filmscale",
         description="Multiscale contact, indentation and impact analysis of thin films.")
-    parser.add_argument("--version", action="version", version=f"filmscale {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and exit")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("impact", help="one normal impact of the scene's sphere or cylinder",
                        description="Maxima of one normal impact (fast energy quadrature), or "
                                    "its time history with --history/--plot.")
     p.add_argument("scene", help="scene file (TOML)")
-    p.add_argument("--velocity", type=float, help="normal impact velocity V (m/s)")
-    p.add_argument("--radius", type=float, help="sphere radius R (m)")
-    p.add_argument("--mass", type=float, help="impacting mass m (kg)")
+    add_quantity_argument(p, "--velocity", "m/s",
+                          help="normal impact velocity V: m/s, or with units (0.5 m/s)")
+    add_quantity_argument(p, "--radius", "m", help="sphere radius R: m, or with units (10 um)")
+    add_quantity_argument(p, "--mass", "kg", help="impacting mass m: kg, or with units (1.6 mg)")
     p.add_argument("--angle", type=float, metavar="DEG",
                    help="incidence from the normal in degrees, V staying the normal speed: an "
                         "oblique impact with the scene's [contact] friction (default: the "
@@ -481,17 +507,19 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Impact maps of the layered target and of its bare "
                                    "substrate, to HDF5 (SI) and contour plots.")
     p.add_argument("scene", help="scene file (TOML)")
-    p.add_argument("--velocity", type=_range_arg, metavar="MIN:MAX:N",
-                   help="velocity axis in m/s (default: the scene's [map])")
+    add_quantity_argument(p, "--velocity", "m/s", type=range_arg, metavar="MIN:MAX:N",
+                          help="velocity axis in m/s or with units, 1mm/s:2m/s:60 (default: "
+                               "the scene's [map])")
     rows = p.add_mutually_exclusive_group()
-    rows.add_argument("--radius", type=_range_arg, metavar="MIN:MAX:N",
-                      help="radius axis in m (default: the scene's [map])")
+    add_quantity_argument(rows, "--radius", "m", type=range_arg, metavar="MIN:MAX:N",
+                          help="radius axis in m or with units, 1um:50um:60 (default: the "
+                               "scene's [map])")
     rows.add_argument("--angle", type=_range_arg, metavar="MIN:MAX:N",
                       help="incidence axis in degrees (linear) at the scene's radius instead: "
                            "oblique impacts with the scene's [contact] friction, about 0.5 s "
                            "per point that neither slides throughout nor lacks friction")
     p.add_argument("--spacing", choices=("log", "linear"), help="axis spacing (default log)")
-    p.add_argument("--out", required=True, metavar="MAP.h5", help="HDF5 result file")
+    p.add_argument("--out", metavar="MAP.h5", help="HDF5 result file (--out, --plot or both)")
     p.add_argument("--plot", metavar="MAP.png", help="contour plots")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     add_force_argument(p)
@@ -519,8 +547,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--beta", type=_constant_arg(("tip", "hay", "no-slip")), default="tip",
                    help="beta: tip (default), hay, no-slip, or a number")
     p.add_argument("--nu", type=float, help="sample Poisson ratio: adds E to the results")
-    p.add_argument("--frame-compliance", type=float, metavar="C_F",
-                   help="frame compliance to remove, m/N")
+    add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
+                          help="frame compliance to remove: m/N, or with units (0.2 nm/mN)")
     p.add_argument("--no-drift", action="store_true",
                    help="keep thermal drift (default: remove the drift of a low-load hold)")
     indent_calibrate.add_reader_arguments(p)
@@ -547,26 +575,32 @@ def build_parser() -> argparse.ArgumentParser:
     p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",
                         description="Reverse analysis of sharp indentation (Dao et al. 2001): "
                                     "from the loading curvature C, the unloading slope dP/dh, "
-                                    "W_p/W_t and the maximum depth h_m to E*, the 3.3 %% "
+                                    "W_p/W_t and the maximum depth h_m to E*, the 3.3 % "
                                     "representative stress sigma_r, n and sigma_y, each with "
                                     "its standard deviation (Monte Carlo over the inputs' "
                                     "standard deviations). With --C2/--tip2: dual indenter "
                                     "(Chollacoop, Dao & Suresh 2003). SI units.")
-    p.add_argument("--C", type=float, required=True, help="loading curvature P/h^2, Pa")
-    p.add_argument("--dPdh", type=float, required=True, help="initial unloading slope, N/m")
+    add_quantity_argument(p, "--C", "Pa", required=True,
+                          help="loading curvature P/h^2: Pa, or with units (30 GPa)")
+    add_quantity_argument(p, "--dPdh", "N/m", required=True,
+                          help="initial unloading slope: N/m, or with units (2e5 N/m)")
     p.add_argument("--WpWt", type=float, required=True, help="plastic over total work")
-    p.add_argument("--hm", type=float, required=True, help="maximum depth h_m, m")
+    add_quantity_argument(p, "--hm", "m", required=True,
+                          help="maximum depth h_m: m, or with units (500 nm)")
     p.add_argument("--tip", default="berkovich", help="berkovich (default) or cone:70.3")
-    for name, unit in (("C", "Pa"), ("dPdh", "N/m"), ("WpWt", "-"), ("hm", "m")):
-        p.add_argument(f"--{name}-std", type=float, default=0.0, dest=f"{name}_std",
-                       help=f"standard deviation of --{name}, {unit} (default 0)")
-    p.add_argument("--C2", type=float, help="second tip's loading curvature, Pa (dual indenter)")
-    p.add_argument("--C2-std", type=float, default=0.0, dest="C2_std",
-                   help="standard deviation of --C2, Pa")
+    p.add_argument("--WpWt-std", type=float, default=0.0, dest="WpWt_std",
+                   help="standard deviation of --WpWt (default 0)")
+    for name, unit in (("C", "Pa"), ("dPdh", "N/m"), ("hm", "m")):
+        add_quantity_argument(p, f"--{name}-std", unit, default=0.0, dest=f"{name}_std",
+                              help=f"standard deviation of --{name}, {unit} (default 0)")
+    add_quantity_argument(p, "--C2", "Pa",
+                          help="second tip's loading curvature, Pa (dual indenter)")
+    add_quantity_argument(p, "--C2-std", "Pa", default=0.0, dest="C2_std",
+                          help="standard deviation of --C2, Pa")
     p.add_argument("--tip2", help="second tip, cone:THETA with THETA in 50-80 deg")
     p.add_argument("--nu", type=float, default=0.3, help="sample Poisson ratio (default 0.3)")
-    p.add_argument("--E-i", type=float, default=1100e9, dest="E_i",
-                   help="indenter modulus, Pa (default 1100e9, as Dao et al.)")
+    add_quantity_argument(p, "--E-i", "Pa", default=1100e9, dest="E_i",
+                          help="indenter modulus, Pa (default 1100e9, as Dao et al.)")
     p.add_argument("--nu-i", type=float, default=0.07, dest="nu_i",
                    help="indenter Poisson ratio (default 0.07)")
     p.add_argument("--method", choices=("closed-form", "surrogate"), default="closed-form",
@@ -591,6 +625,7 @@ def main(argv=None) -> int:
     # are terminated and no half-written file is kept
     previous = signal.signal(signal.SIGTERM, _terminated)
     try:
+        convert_quantities(args)
         return args.func(args)
     except FilmscaleError as err:
         kind = "error: " if isinstance(err, InputError) else ""

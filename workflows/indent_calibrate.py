@@ -17,6 +17,7 @@ from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
 from .outputs import add_force_argument, check_outputs, output_path, text_kind
+from .quantity_args import add_quantity_argument
 
 FORMAT_CHOICES = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
 
@@ -56,8 +57,9 @@ def add_parser(isub) -> None:
                         "nominal tip's)")
     p.add_argument("--area-file", metavar="F.toml",
                    help="with --fit frame: the area function to keep (default: the nominal tip)")
-    p.add_argument("--frame-compliance", type=float, metavar="C_F",
-                   help="with --fit area: the frame compliance to remove, m/N (default 0)")
+    add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
+                          help="with --fit area: the frame compliance to remove, m/N or with "
+                               "units (0.2 nm/mN; default 0)")
     p.add_argument("--window", default="0.2:0.98", metavar="LOW:HIGH",
                    help="unloading fit window, fractions of P_max (default 0.2:0.98)")
     add_reader_arguments(p)

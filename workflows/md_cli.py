@@ -101,6 +101,14 @@ def cmd_potentials(args) -> int:
     return 2 if failed else 0
 
 
+#: the built-in specs of `md indent` and `particles` (md.spec.PRESETS and
+#: md.particle_spec.PRESETS, named here so that --help does not import the MD layer)
+PRESET_NAMES = ("ci", "quick", "research")
+#: shown in the help; not argparse choices, so that a wrong name is the presets' own
+#: InputError (exit 2 from main, as every bad input)
+PRESET_METAVAR = "{" + ",".join(PRESET_NAMES) + "}"
+
+
 def add_commands(sub) -> None:
     """Register ``md`` and ``potentials`` on the top-level subparsers."""
     md = sub.add_parser("md", help="LAMMPS molecular dynamics runs")
@@ -109,7 +117,9 @@ def add_commands(sub) -> None:
                         description="Run (or resume, with the same --out) an MD indentation, "
                                     "analyse its curve and write the HDF5 record.")
     p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
-    p.add_argument("--preset", help="ci, quick or research instead of a spec file")
+    p.add_argument("--preset", metavar=PRESET_METAVAR,
+                   help="a built-in spec instead of a spec file: ci (seconds), quick (minutes "
+                        "on 2 cores) or research (sizes for a study, for MPI on many cores)")
     p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
@@ -117,7 +127,12 @@ def add_commands(sub) -> None:
     add_force_argument(p)
     p.set_defaults(func=cmd_md_indent)
 
-    p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows")
-    p.add_argument("action", choices=("list", "show", "verify"))
+    p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows",
+                       description="The interatomic potentials in filmscale's registry: list "
+                                   "them, show one (elements, citation, file and its SHA-256) "
+                                   "or verify every file against its checksum (exit 2 when "
+                                   "one differs).")
+    p.add_argument("action", choices=("list", "show", "verify"),
+                   help="list every potential, show NAME, or verify the files' checksums")
     p.add_argument("name", nargs="?", help="potential name (for show)")
     p.set_defaults(func=cmd_potentials)

@@ -12,6 +12,7 @@ from pathlib import Path
 from filmscale.core.errors import InputError
 from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
+from filmscale.workflows.md_cli import PRESET_METAVAR
 from filmscale.workflows.outputs import add_force_argument, check_run_folder
 
 
@@ -72,7 +73,10 @@ def add_commands(sub) -> None:
                             description=f"Run a particle-model {text}, analyse it and write "
                                         "the HDF5 record (particles.h5 in the run directory).")
         q.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
-        q.add_argument("--preset", help="ci, quick or research instead of a spec file")
+        q.add_argument("--preset", metavar=PRESET_METAVAR,
+                       help="a built-in spec instead of a spec file: ci (seconds), quick "
+                            "(minutes on 2 cores) or research (sizes for a study, for MPI on "
+                            "many cores)")
         q.add_argument("--method", choices=("tlsph", "peri", "ulsph"),
                        help="override the spec's method")
         q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")

@@ -220,7 +220,12 @@ def _sweep_parser(ssub, name: str, help_text: str):
 
 
 def add_commands(sub) -> None:
-    p = sub.add_parser("plan", help="print the models a scene needs, why, error and cost")
+    p = sub.add_parser("plan", help="print the models a scene needs, why, error and cost",
+                       description="Plan a scene without running it: for each layer, the "
+                                   "model chosen to calibrate it (MD, particles or the "
+                                   "curves given) and why, the expected error and the "
+                                   "estimated cost, then the impact model. `filmscale run` "
+                                   "executes the same plan.")
     p.add_argument("scene", help="scene file (TOML)")
     p.set_defaults(func=cmd_plan)
 

@@ -8,6 +8,7 @@ import base64
 import html
 import io
 import json
+import math
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -15,8 +16,10 @@ import h5py
 import numpy as np
 
 from filmscale.continuum.calibration.result import CrossCheck, pop_in_bottom
+from filmscale.continuum.contact.results import ImpactMaxima
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
+from filmscale.core.quantities import eng
 from filmscale.workflows.result import RESULT_FORMAT
 
 from .plots import plt
@@ -210,12 +213,22 @@ def _number(value, fmt: str, unit: str = "") -> str:
     return f"{value:{fmt}}{unit}"
 
 
+def _quantity(value, unit: str, std=None) -> str:
+    """A value of a result file's JSON (null stands for NaN) in engineering units."""
+    if value is None or value != value:
+        return "-"
+    return eng(value, unit, std=None if std is None else _float(std))
+
+
+def _float(value) -> float:
+    return math.nan if value is None else float(value)
+
+
 def _pop_in_text(p: dict) -> str:
-    return (f"<p>Pop-in over {p['members']} seeds: load {_number(p['load'], '.4g')} +- "
-            f"{_number(p['load_std'], '.2g')} N at {_number(p['depth'], '.4g')} +- "
-            f"{_number(p['depth_std'], '.2g')} m; shear stress (0.31 p0) "
-            f"{_number(p['shear_stress'], '.4g')} +- {_number(p['shear_stress_std'], '.2g')} "
-            "Pa</p>")
+    return (f"<p>Pop-in over {p['members']} seeds: load "
+            f"{_quantity(p['load'], 'N', p['load_std'])} at "
+            f"{_quantity(p['depth'], 'm', p['depth_std'])}; shear stress (0.31 p0) "
+            f"{_quantity(p['shear_stress'], 'Pa', p['shear_stress_std'])}</p>")
 
 
 def _table(rows, header) -> str:
@@ -244,8 +257,7 @@ def write_report(result, out=None) -> Path:
         for key in f["calibration"]:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
-            rows = [(name, f"{cal[name]['value']:.4g}",
-                     _number(cal[name]["std"], ".3g"), cal[name]["unit"],
+            rows = [(name, _quantity(cal[name]["value"], cal[name]["unit"], cal[name]["std"]),
                      "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
                     for name in ("E", "sigma_y", "n", "h_star") if cal.get(name)]
             parts += [f"<h3>{html.escape(cal['layer'])}</h3>",
@@ -253,25 +265,26 @@ def write_report(result, out=None) -> Path:
                       f"{html.escape(cal['uncertainty'])}; rms misfit "
                       f"{_number(cal['rms'], '.2%')} of the largest load over "
                       f"{cal['points']} points</p>",
-                      _table(rows, ("parameter", "value", "1 std", "unit", "identified")),
+                      _table(rows, ("parameter", "value +- 1 std", "identified")),
                       *([_pop_in_text(cal["pop_in"])] if cal.get("pop_in") else []),
                       *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
                       _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}"),
                       _panel(_draw_residuals, g)]
             if cal.get("components"):
                 parts.append(_table(
-                    [(c["source"], c["route"], f"{c['E']['value']:.4g}",
-                      f"{c['E_joint']['value']:.4g}", f"{c['sigma_y']['value']:.4g}")
+                    [(c["source"], c["route"], _quantity(c["E"]["value"], "Pa"),
+                      _quantity(c["E_joint"]["value"], "Pa"),
+                      _quantity(c["sigma_y"]["value"], "Pa"))
                      for c in cal["components"]],
-                    ("source", "route", "E alone (Pa)", "E in the joint fit (Pa)",
-                     "sigma_y alone (Pa)")))
+                    ("source", "route", "E alone", "E in the joint fit", "sigma_y alone")))
             parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
         radius = float(f["impact/point/radius"][()])
         parts += ["<h2>Depth profile</h2>", _panel(_draw_profile, f["profile"], radius),
                   "<h2>Impact</h2>"]
         point = f["impact/point"]
-        parts.append(_table([(k, f"{float(point[k][()]):.5g}") for k in sorted(point)],
-                            ("quantity (SI)", "value")))
+        units = {k: "" if u == "1" else u for k, u in ImpactMaxima.UNITS.items()}
+        parts.append(_table([(k, _quantity(float(point[k][()]), units.get(k, "")))
+                             for k in sorted(point)], ("quantity", "value")))
         if "map" in f["impact"]:
             parts.append(_map_figure(f["impact/map"]))
         if "map_std" in f["impact"]:

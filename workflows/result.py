@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import h5py
 import numpy as np
 
-from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.continuum.contact.impact import ImpactMaxima
 from filmscale.continuum.contact.impact_map import CYLINDER_UNITS, CylinderMap, ImpactMap
 from filmscale.continuum.contact.oblique import OBLIQUE_FIELDS
@@ -19,8 +19,11 @@ from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5
 from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
-from filmscale.workflows.plan import Plan
-from filmscale.workflows.scene import PipelineScene, Scene
+
+if TYPE_CHECKING:       # annotations only: an impact map is written without the planner or MD
+    from filmscale.continuum.calibration.result import Calibration, CrossCheck
+    from filmscale.workflows.plan import Plan
+    from filmscale.workflows.scene import PipelineScene, Scene
 
 #: /2: ``cross_check`` of a calibrated layer is a list (one check per source)
 RESULT_FORMAT = "filmscale.scene_result/2"

@@ -33,6 +33,7 @@ from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKN
                                    check_yield_strength, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import parse_toml, read_text
+from filmscale.core.quantities import to_si
 
 _MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
 _SECTIONS = {
@@ -47,6 +48,17 @@ _SECTIONS = {
     "contact": {"friction"},
 }
 _TOP = {"impactor", "target", "model", "map", "contact", "title", "description"}
+_MATERIAL_UNITS = {"E": "Pa", "sigma_y": "Pa"}
+#: the keys that take a quantity with units ("10 um", "90 GPa") as well as a bare SI number,
+#: with their SI unit, by table; a [map] axis [min, max, count] takes them for min and max
+_QUANTITIES = {
+    "impactor": {"radius": "m", "mass": "kg", "velocity": "m/s", "E": "Pa", "length": "m",
+                 "datum_depth": "m", "angle": "degree"},
+    "target.substrate": _MATERIAL_UNITS | {"h_star": "m"},
+    "target.layers": _MATERIAL_UNITS | {"thickness": "m", "h_star": "m"},
+    "calibrate": {"film_thickness": "m"},
+    "calibrate.substrate": _MATERIAL_UNITS,
+}
 
 
 def _h_star(where: str, table: dict) -> float:
@@ -215,6 +227,41 @@ def _numbers(where: str, value) -> np.ndarray:
     return np.array([check_real(f"{where}[{i}]", v) for i, v in enumerate(value)])
 
 
+def _in_si(where: str, table, units: dict[str, str]) -> None:
+    """Convert, in place, each quantity with units in ``table`` to its SI number."""
+    if isinstance(table, dict):
+        for key, unit in units.items():
+            if key in table:
+                table[key] = to_si(f"{where}.{key}", table[key], unit, text_numbers=False)
+
+
+def si_quantities(data: dict) -> dict:
+    """A copy of scene ``data`` with every quantity written with units ("10 um", "90 GPa",
+    see `_QUANTITIES`) replaced by its SI number, so that the checks and the unit store see
+    numbers; other values are left for the checks to judge."""
+    data = copy.deepcopy(data)
+    _in_si("impactor", data.get("impactor"), _QUANTITIES["impactor"])
+    target = data.get("target") if isinstance(data.get("target"), dict) else {}
+    _in_si("target.substrate", target.get("substrate"), _QUANTITIES["target.substrate"])
+    layers = target.get("layers")
+    for i, layer in enumerate(layers if isinstance(layers, list) else []):
+        where = f"target.layers[{i}]"
+        _in_si(where, layer, _QUANTITIES["target.layers"])
+        cal = layer.get("calibrate") if isinstance(layer, dict) else None
+        for j, source in enumerate(cal if isinstance(cal, list) else [cal]):
+            at = f"{where}.calibrate" + (f"[{j}]" if isinstance(cal, list) else "")
+            _in_si(at, source, _QUANTITIES["calibrate"])
+            if isinstance(source, dict):
+                _in_si(f"{at}.substrate", source.get("substrate"),
+                       _QUANTITIES["calibrate.substrate"])
+    axes = data.get("map") if isinstance(data.get("map"), dict) else {}
+    for key, unit in (("velocity", "m/s"), ("radius", "m")):
+        if isinstance(axes.get(key), list) and len(axes[key]) == 3:
+            axes[key][:2] = [to_si(f"map.{key} {end}", v, unit, text_numbers=False)
+                             for end, v in zip(("minimum", "maximum"), axes[key][:2])]
+    return data
+
+
 def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
     """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
     return scene_from_data(parse_toml(text, "scene", source), text, source, base)
@@ -224,6 +271,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                     base: Path | None = None) -> Scene:
     """Validate a scene already read from TOML (``text`` is kept for provenance)."""
     base = Path(".") if base is None else base
+    data = si_quantities(data)
     check_keys("scene", data, _TOP)
 
     imp = check_keys("impactor", required("scene", data, "impactor"), _SECTIONS["impactor"])
@@ -553,7 +601,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
                    ) -> PipelineScene:
     """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
     base = Path(".") if base is None else base
-    data = parse_toml(text, "scene", source)
+    data = si_quantities(parse_toml(text, "scene", source))
     outputs = data.pop("outputs", {})
     if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
         raise InputError("[outputs] takes want (a list) and tolerance; got "

@@ -8,16 +8,24 @@ standard deviations, the layer's material and the cross-scale check of the calib
 forward model against its curves. SI units.
 """
 
-from filmscale.continuum.calibration.ensemble import calibrate_ensemble
-from filmscale.continuum.calibration.joint import CalibrationPart, combine, sharp_part, sphere_part
-from filmscale.continuum.calibration.result import Calibration, CrossCheck, Parameter
-from filmscale.continuum.calibration.route import calibrate
-from filmscale.continuum.calibration.sharp import calibrate_sharp, size_effect, with_size_effect
-from filmscale.continuum.calibration.sphere import calibrate_sphere
-from filmscale.continuum.calibration.target import SphereTarget
+from filmscale.core.lazy import lazy_exports
+
+#: public name -> the submodule that defines it (imported on first use, so that the
+#: command line starts without loading scipy's heavier parts)
+_WHERE = {
+    "calibrate_ensemble": "ensemble",
+    "CalibrationPart": "joint", "combine": "joint", "sharp_part": "joint", "sphere_part": "joint",
+    "Calibration": "result", "CrossCheck": "result", "Parameter": "result",
+    "calibrate": "route",
+    "calibrate_sharp": "sharp", "size_effect": "sharp", "with_size_effect": "sharp",
+    "calibrate_sphere": "sphere",
+    "SphereTarget": "target",
+}
 
 __all__ = [
     "calibrate", "calibrate_ensemble", "SphereTarget", "calibrate_sphere", "calibrate_sharp", "with_size_effect", "size_effect",
     "combine", "sphere_part", "sharp_part", "CalibrationPart",
     "Calibration", "Parameter", "CrossCheck",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

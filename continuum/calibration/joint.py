@@ -35,8 +35,6 @@ from typing import Callable
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.stats import chi2
-from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.reverse.dao import dao_forward
@@ -163,6 +161,7 @@ def sharp_part(label: str, cal: Calibration, curves, tip: str, E_i: float = E_I_
 def _mean(items, name: str, unit: str) -> tuple[Parameter, list[str]]:
     """Inverse-variance mean of the identified (label, Parameter) items; the first item's
     parameter when none is identified."""
+    from scipy.stats import chi2
     use = [(label, p) for label, p in items
            if p.identified and math.isfinite(p.std) and p.std > 0]
     if not use:
@@ -227,6 +226,7 @@ def _joint_fit(parts, d_ref, sized: bool):
 def combine(parts, layer: str) -> Calibration:
     """One calibration of ``layer`` from the calibrations of two or more sources (module
     docstring)."""
+    from scipy.stats import f as f_dist
     parts = list(parts)
     if len(parts) < 2:
         raise InputError(f"a joint calibration of {layer} needs 2 or more sources, got "

@@ -14,6 +14,7 @@ from filmscale.continuum.materials import ElasticPlastic, modulus_from_reduced
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
+from filmscale.core.quantities import eng
 
 #: relative standard deviation above which a fitted parameter is reported as not identified
 IDENTIFIABLE_RSD = 0.3
@@ -48,9 +49,8 @@ class Parameter:
         return cls(**{**d, "value": _float(d["value"]), "std": _float(d["std"])})
 
     def text(self) -> str:
-        std = "" if math.isnan(self.std) else f" +- {self.std:.3g}"
         tag = "" if self.identified else f"  [not identified: {self.reason}]"
-        return f"{self.value:.4g}{std} {self.unit}".rstrip() + tag
+        return eng(self.value, self.unit, std=self.std) + tag
 
 
 @dataclass(frozen=True)
@@ -188,14 +188,14 @@ class Calibration:
             lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
         if self.pop_in:
             p = self.pop_in
-            lines.append(f"  pop-in  = {p['load']:.4g} +- {p['load_std']:.2g} N at "
-                         f"{p['depth']:.4g} +- {p['depth_std']:.2g} m; shear stress "
-                         f"{p['shear_stress']:.4g} +- {p['shear_stress_std']:.2g} Pa "
+            lines.append(f"  pop-in  = {eng(p['load'], 'N', std=p['load_std'])} at "
+                         f"{eng(p['depth'], 'm', std=p['depth_std'])}; shear stress "
+                         f"{eng(p['shear_stress'], 'Pa', std=p['shear_stress_std'])} "
                          f"({p['members']} members)")
         for c in self.components:
-            lines.append(f"  from {c['source']} ({c['route']}): E {c['E']['value']:.4g} Pa "
-                         f"alone, {c['E_joint']['value']:.4g} Pa in the joint fit; sigma_y "
-                         f"{c['sigma_y']['value']:.4g} Pa alone")
+            lines.append(f"  from {c['source']} ({c['route']}): E {eng(c['E']['value'], 'Pa')} "
+                         f"alone, {eng(c['E_joint']['value'], 'Pa')} in the joint fit; sigma_y "
+                         f"{eng(c['sigma_y']['value'], 'Pa')} alone")
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 

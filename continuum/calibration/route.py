@@ -19,12 +19,7 @@ from filmscale.core.errors import InputError
 from .result import Calibration
 from .sharp import calibrate_sharp, with_size_effect
 from .sphere import calibrate_sphere
-
-#: what a tip is made of: rigid (the tips of MD and particle runs) or diamond (measured)
-TIP_MATERIALS = ("rigid", "diamond")
-#: how a sphere calibration places the contact zero: fitted with E* or fixed at the
-#: curve's h = 0
-CONTACT_ZEROS = ("fit", "fixed")
+from .target import CONTACT_ZEROS, TIP_MATERIALS
 
 
 def default_contact_zero(tip_material: str) -> str:

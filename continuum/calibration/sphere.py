@@ -26,7 +26,6 @@ import math
 
 import numpy as np
 from scipy.optimize import brentq, least_squares
-from scipy.stats import f as f_dist
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
@@ -220,6 +219,7 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
     """Smooth curves: ln E* and ln sigma_y together, or Hertz alone when that suffices."""
     # starting point: Hertz on the first third of each curve's load, then yield at the
     # largest mean pressure divided by the law's hardness factor
+    from scipy.stats import f as f_dist
     E0 = np.median([hertz_fit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)),
                               R=r, P_limit=0.3 * Pm).E_r for h, P, r, Pm, _ in data])
     pm = max(Pm / (math.pi * r * h.max()) for h, P, r, Pm, _ in data)

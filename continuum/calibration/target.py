@@ -35,6 +35,13 @@ from filmscale.continuum.materials import (ElasticPlastic, Layer, LayerStack,
                                            modulus_from_reduced, reduced_modulus)
 from filmscale.core.checks import THICKNESS_MAX, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.quantities import eng
+
+#: what a tip is made of: rigid (the tips of MD and particle runs) or diamond (measured)
+TIP_MATERIALS = ("rigid", "diamond")
+#: how a sphere calibration places the contact zero: fitted with E* or fixed at the
+#: curve's h = 0
+CONTACT_ZEROS = ("fit", "fixed")
 
 
 @dataclass(frozen=True)
@@ -130,7 +137,8 @@ class SphereTarget:
         if not self.layered:
             return f"half-space of the layer, {tip}"
         s = self.substrate
-        strength = (f"sigma_y {s.sigma_y:.3g} Pa" if math.isfinite(s.sigma_y)
+        strength = (f"sigma_y {eng(s.sigma_y, 'Pa', 3)}" if math.isfinite(s.sigma_y)
                     else "sigma_y taken as the film's")
-        return (f"film of {self.thickness:.3g} m on {s.name or 'substrate'} (E {s.E:.3g} Pa, "
+        return (f"film of {eng(self.thickness, 'm', 3)} on {s.name or 'substrate'} "
+                f"(E {eng(s.E, 'Pa', 3)}, "
                 f"nu {s.nu:g}, {strength}), Gao-weighted; {tip}")

@@ -9,18 +9,24 @@ the impact model with its maxima fast path and time integration (`impact`) and i
 This sub-package imports nothing of `indentation` or `calibration`.
 """
 
-from filmscale.continuum.contact.cylinder import CylinderImpactModel, CylinderImpactResult
-from filmscale.continuum.contact.hertz import (elastic_impact, elastic_impact_time, first_yield,
-                                               yield_velocity)
-from filmscale.continuum.contact.impact import ImpactModel, solve_impact
-from filmscale.continuum.contact.impact_map import MAP_FIELDS, ImpactMap, impact_map
-from filmscale.continuum.contact.laws import (LAW_NAMES, ContactLaw, Hertz, JacksonGreen,
-                                              KogutEtsion, KomvopoulosYe, Thornton, contact_law)
-from filmscale.continuum.contact.oblique import ObliqueResult, solve_oblique
-from filmscale.continuum.contact.profiles import (DepthProfile, StackProfile, TableProfile,
-                                                  UniformProfile)
-from filmscale.continuum.contact.restitution import UNLOADING_MODELS, thornton_restitution
-from filmscale.continuum.contact.results import ImpactHistory, ImpactMaxima, ImpactResult
+from filmscale.core.lazy import lazy_exports
+
+#: public name -> the submodule that defines it (imported on first use, so that the
+#: command line starts without loading scipy's heavier parts)
+_WHERE = {
+    "CylinderImpactModel": "cylinder", "CylinderImpactResult": "cylinder",
+    "elastic_impact": "hertz", "elastic_impact_time": "hertz", "first_yield": "hertz",
+    "yield_velocity": "hertz",
+    "ImpactModel": "impact", "solve_impact": "impact",
+    "MAP_FIELDS": "impact_map", "ImpactMap": "impact_map", "impact_map": "impact_map",
+    "LAW_NAMES": "laws", "ContactLaw": "laws", "Hertz": "laws", "JacksonGreen": "laws",
+    "KogutEtsion": "laws", "KomvopoulosYe": "laws", "Thornton": "laws", "contact_law": "laws",
+    "ObliqueResult": "oblique", "solve_oblique": "oblique",
+    "DepthProfile": "profiles", "StackProfile": "profiles", "TableProfile": "profiles",
+    "UniformProfile": "profiles",
+    "UNLOADING_MODELS": "restitution", "thornton_restitution": "restitution",
+    "ImpactHistory": "results", "ImpactMaxima": "results", "ImpactResult": "results",
+}
 
 __all__ = [
     "contact_law", "LAW_NAMES", "ContactLaw", "Hertz", "KomvopoulosYe", "KogutEtsion",
@@ -31,3 +37,5 @@ __all__ = [
     "solve_oblique", "ObliqueResult", "CylinderImpactModel", "CylinderImpactResult",
     "impact_map", "ImpactMap", "MAP_FIELDS", "UNLOADING_MODELS", "thornton_restitution",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

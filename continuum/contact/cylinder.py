@@ -42,7 +42,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 from scipy.special import lambertw
 
@@ -51,6 +50,7 @@ from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCI
                                    check_choice, check_real)
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
+from filmscale.core.quantities import eng
 
 from .impact import sample_pieces
 from .profiles import DepthProfile, checked_bodies
@@ -157,14 +157,14 @@ class CylinderImpactResult:
 
     def summary(self) -> str:
         lines = [
-            f"Impact of a cylinder R = {self.radius:.4g} m, L = {self.length:.4g} m, "
-            f"m = {self.mass:.4g} kg at V = {self.velocity:.4g} m/s (line contact, datum "
-            f"d = {self.datum_depth:.4g} m, {self.path})",
-            f"  maximum approach      {self.delta_max:.6g} m",
-            f"  maximum force         {self.force_max:.6g} N "
-            f"({self.line_load_max:.6g} N/m)",
-            f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
-            f"  contact half-width    {self.contact_half_width:.6g} m",
+            f"Impact of a cylinder R = {eng(self.radius, 'm')}, L = {eng(self.length, 'm')}, "
+            f"m = {eng(self.mass, 'kg')} at V = {eng(self.velocity, 'm/s')} (line contact, "
+            f"datum d = {eng(self.datum_depth, 'm')}, {self.path})",
+            f"  maximum approach      {eng(self.delta_max, 'm')}",
+            f"  maximum force         {eng(self.force_max, 'N')} "
+            f"({eng(self.line_load_max, 'N/m')})",
+            f"  maximum mean pressure {eng(self.mean_pressure_max, 'Pa')}",
+            f"  contact half-width    {eng(self.contact_half_width, 'm')}",
             *rebound_lines(self),
             f"  approximation         {self.approximation}",
         ]
@@ -377,6 +377,7 @@ class CylinderImpactModel:
         largest half-width b_max; loading and unloading times by quadrature of d(delta)/v in
         the variable b = b_max (1 - u^2), which removes the square-root singularity at the
         turning point."""
+        from scipy.integrate import quad
         V, R, m = self._inputs(velocity, radius, mass)
         tables = self.tables(R)
         L = self.length
@@ -436,6 +437,7 @@ class CylinderImpactModel:
         method : str
             A `scipy.integrate.solve_ivp` method.
         """
+        from scipy.integrate import solve_ivp
         V, R, m = self._inputs(velocity, radius, mass)
         rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
         check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))

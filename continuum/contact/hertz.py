@@ -14,14 +14,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import beta as _beta
-from scipy.special import hyp2f1
 
 from filmscale.core.checks import check_broadcast, check_real_array
 from filmscale.core.errors import InputError
 
 #: t_c V / delta_max for an elastic Hertz impact: (4/5) B(2/5, 1/2) = 2.943275...
-HERTZ_DURATION_FACTOR = 0.8 * _beta(0.4, 0.5)
+#: (math.gamma rather than scipy.special.beta keeps scipy out of the command line's start-up)
+HERTZ_DURATION_FACTOR = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
 
 #: the valid range of each input: (low, high, low_open, high_open, unit)
 _RANGES = {
@@ -109,6 +108,7 @@ def elastic_impact_time(delta, delta_max, V):
         raise InputError(f"delta = {np.asarray(delta)[beyond].flat[0]:.6g} m is beyond "
                          f"delta_max = {np.asarray(delta_max)[beyond].flat[0]:.6g} m, where "
                          "the loading half ends")
+    from scipy.special import hyp2f1
     x = np.power(delta / delta_max, 2.5)
     return (delta / V) * hyp2f1(0.5, 0.4, 1.4, x)
 

@@ -25,7 +25,6 @@ from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, elementwise, minimize_scalar
 
 from filmscale.continuum.contact.laws import ContactLaw
@@ -441,6 +440,7 @@ class ImpactModel:
         samples : int
             Points of dense output per phase in the returned histories.
         """
+        from scipy.integrate import solve_ivp
         V, R, m = (float(x) for x in _impact_inputs(velocity, radius, mass))
         rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
         check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))

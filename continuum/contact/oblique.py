@@ -45,7 +45,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from filmscale.core.checks import check_choice, check_int, check_real
 from filmscale.core.errors import InputError, ModelRangeError
@@ -102,11 +101,11 @@ class ObliqueResult:
             self.normal.summary(),
             f"  oblique: angle {self.angle:g} deg, mu = {self.friction:g}, "
             f"I = {self.inertia_factor:g} m R^2 ({self.path})",
-            f"  tangential restitution e_x      {self.restitution_tangential:.6f}",
-            f"  contact-point restitution e_c   {self.restitution_contact_point:.6f}",
-            f"  impulse ratio J_t/J_n           {self.impulse_ratio:.6f}",
-            f"  rebound angle                   {self.rebound_angle:.4f} deg",
-            f"  spin                            {self.spin:.6g} rad/s",
+            f"  tangential restitution e_x      {self.restitution_tangential:.4f}",
+            f"  contact-point restitution e_c   {self.restitution_contact_point:.4f}",
+            f"  impulse ratio J_t/J_n           {self.impulse_ratio:.4f}",
+            f"  rebound angle                   {self.rebound_angle:.4g} deg",
+            f"  spin                            {self.spin:.4g} rad/s",
             f"  tangential regime               {self.regime_tangential}"])
 
 
@@ -217,6 +216,7 @@ def _result(normal, theta, mu, j, v_x, w, regime, path) -> ObliqueResult:
 def _integrate(model, hist, theta, mu, j, steps, springs) -> ObliqueResult:
     """The tangential motion stepped through the contact on the MDR spring line (module
     docstring) against the interpolated normal history."""
+    from scipy.interpolate import PchipInterpolator
     normal = hist.result
     R, m, V = normal.radius, normal.mass, normal.velocity
     v_t = V * math.tan(math.radians(theta))

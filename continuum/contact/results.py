@@ -9,6 +9,7 @@ import numpy as np
 
 from filmscale.core.errors import ModelRangeError
 from filmscale.core.jsonable import to_jsonable
+from filmscale.core.quantities import eng
 
 #: status codes of a fast-path point
 OK, EXCEEDS_RADIUS, UNLOADING_INCONSISTENT, UNLOADING_OUT_OF_RANGE = 0, 1, 2, 3
@@ -32,13 +33,14 @@ def rebound_lines(result) -> list[str]:
     """The summary lines an impact result of any shape shares: contact time, residual depth,
     restitution and the regime reached."""
     return [
-        f"  contact time          {result.contact_time:.6g} s "
-        f"(loading {result.loading_time:.4g} s, unloading {result.unloading_time:.4g} s)",
-        f"  residual depth        {result.residual_depth:.6g} m",
-        f"  restitution e_y       {result.restitution:.6f}",
+        f"  contact time          {eng(result.contact_time, 's')} "
+        f"(loading {eng(result.loading_time, 's')}, "
+        f"unloading {eng(result.unloading_time, 's')})",
+        f"  residual depth        {eng(result.residual_depth, 'm')}",
+        f"  restitution e_y       {result.restitution:.4f}",
         f"  regime reached        {result.regime} "
         f"({'yielded' if result.yielded else 'no yield'}; first yield at "
-        f"V_Y = {result.yield_velocity:.4g} m/s)",
+        f"V_Y = {eng(result.yield_velocity, 'm/s')})",
     ]
 
 
@@ -77,13 +79,13 @@ class ImpactResult:
 
     def summary(self) -> str:
         lines = [
-            f"Impact of a sphere R = {self.radius:.4g} m, m = {self.mass:.4g} kg at "
-            f"V = {self.velocity:.4g} m/s ({self.contact_law}, unloading: {self.unloading}, "
-            f"{self.path})",
-            f"  maximum approach      {self.delta_max:.6g} m",
-            f"  maximum force         {self.force_max:.6g} N",
-            f"  maximum mean pressure {self.mean_pressure_max:.6g} Pa",
-            f"  maximum contact radius {self.contact_radius_max:.6g} m",
+            f"Impact of a sphere R = {eng(self.radius, 'm')}, m = {eng(self.mass, 'kg')} at "
+            f"V = {eng(self.velocity, 'm/s')} ({self.contact_law}, unloading: "
+            f"{self.unloading}, {self.path})",
+            f"  maximum approach      {eng(self.delta_max, 'm')}",
+            f"  maximum force         {eng(self.force_max, 'N')}",
+            f"  maximum mean pressure {eng(self.mean_pressure_max, 'Pa')}",
+            f"  maximum contact radius {eng(self.contact_radius_max, 'm')}",
             *rebound_lines(self),
         ]
         if self.status != OK:

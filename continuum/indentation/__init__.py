@@ -10,21 +10,23 @@ sub-package `reverse`. Equations: docs/physics.md
 sections 9-10. SI units.
 """
 
-from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, check_curve,
-                                                    synthetic_curve)
-from filmscale.continuum.indentation.cycles import analyse_cycles
-from filmscale.continuum.indentation.io import read_curves
-from filmscale.continuum.indentation.oliver_pharr import (OliverPharrResult,
-                                                          calibrate_frame_compliance, oliver_pharr,
-                                                          shallow_depth_hardness)
-from filmscale.continuum.indentation.property_profile import property_profile
-from filmscale.continuum.indentation.size_effect import nix_gao_fit
-from filmscale.continuum.indentation.spherical import detect_pop_in, elastic_limit, hertz_fit
-from filmscale.continuum.indentation.tip_calibration import TipCalibration, calibrate_tip
-from filmscale.continuum.indentation.tips import (Cone, FlatPunch, PolynomialArea, Sphere,
-                                                  SphericalCone, Tip, calibrate_area_function,
-                                                  fit_tip_radius, parse_tip)
-from filmscale.continuum.indentation.vendors import ReadOptions
+from filmscale.core.lazy import lazy_exports
+
+#: public name -> the submodule that defines it (imported on first use, so that the
+#: command line starts without loading scipy's heavier parts)
+_WHERE = {
+    "LoadDisplacementCurve": "curves", "check_curve": "curves", "synthetic_curve": "curves",
+    "read_curves": "io", "ReadOptions": "vendors", "analyse_cycles": "cycles",
+    "calibrate_tip": "tip_calibration", "TipCalibration": "tip_calibration",
+    "OliverPharrResult": "oliver_pharr", "calibrate_frame_compliance": "oliver_pharr",
+    "oliver_pharr": "oliver_pharr", "shallow_depth_hardness": "oliver_pharr",
+    "property_profile": "property_profile",
+    "nix_gao_fit": "size_effect",
+    "detect_pop_in": "spherical", "elastic_limit": "spherical", "hertz_fit": "spherical",
+    "Cone": "tips", "FlatPunch": "tips", "PolynomialArea": "tips", "Sphere": "tips",
+    "SphericalCone": "tips", "Tip": "tips", "calibrate_area_function": "tips",
+    "fit_tip_radius": "tips", "parse_tip": "tips",
+}
 
 __all__ = [
     "LoadDisplacementCurve", "check_curve", "synthetic_curve", "read_curves", "ReadOptions",
@@ -34,3 +36,5 @@ __all__ = [
     "oliver_pharr", "OliverPharrResult", "calibrate_frame_compliance", "shallow_depth_hardness",
     "hertz_fit", "detect_pop_in", "elastic_limit", "nix_gao_fit", "property_profile",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

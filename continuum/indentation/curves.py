@@ -19,8 +19,6 @@ from functools import cached_property, lru_cache
 from types import MappingProxyType
 
 import numpy as np
-from scipy.ndimage import convolve1d
-from scipy.signal import savgol_coeffs
 
 from filmscale.core.checks import (MODULUS_PLAUSIBLE, SLIP_UNITS, check_float_array,
                                    check_positive, check_real)
@@ -237,6 +235,7 @@ def _runs(labels) -> list[tuple[int, int, int]]:
 
 @lru_cache(maxsize=64)
 def _derivative_kernel(window: int) -> np.ndarray:
+    from scipy.signal import savgol_coeffs   # 1 s to import: only when curves are read
     return savgol_coeffs(window, 2, deriv=1, use="conv")
 
 
@@ -276,6 +275,7 @@ def _rate(P, t):
     step = 1.0
     if t is not None:
         step = _quantile(np.diff(t), 0.5)
+    from scipy.ndimage import convolve1d
     while True:
         kernel = _derivative_kernel(window)
         rate = convolve1d(P, kernel, mode="nearest") / step

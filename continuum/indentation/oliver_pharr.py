@@ -18,7 +18,6 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.integrate import trapezoid
 from scipy.optimize import leastsq
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, modulus_from_reduced
@@ -182,6 +181,7 @@ def oliver_pharr(curve: LoadDisplacementCurve, tip: Tip | str, *, window=(0.2, 0
     E_r outside the range of real solids (a unit slip in the curve's columns) is flagged
     ``implausible_modulus``, with the slip that explains it.
     """
+    from scipy.integrate import trapezoid
     if not isinstance(curve, LoadDisplacementCurve):
         raise InputError(f"curve must be a LoadDisplacementCurve, got {type(curve).__name__}")
     tip = parse_tip(tip)

@@ -7,7 +7,6 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from filmscale.continuum.indentation.curves import LOAD
 from filmscale.core.checks import check_positive, check_real
@@ -40,6 +39,7 @@ def hertz_fit(curve: LoadDisplacementCurve, *, R=None, E_r=None, P_limit=None,
     by default up to the first pop-in (`elastic_limit`), else the whole loading.
     ``fit_offset`` also fits a depth offset h_0 (m) for a misplaced surface.
     """
+    from scipy.optimize import least_squares
     if (R is None) == (E_r is None):
         raise InputError("hertz_fit needs exactly one of R (to fit E_r) or E_r (to fit R)")
     if R is not None:

@@ -18,12 +18,11 @@ import re
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.optimize import minimize_scalar
-from scipy.special import gammaln
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.quantities import to_si
 
 BERKOVICH_AREA = 24.494     #: A / h_c^2 of the ideal Berkovich (65.27 deg face angle)
 BERKOVICH_CONE = 70.30      #: half-angle of the cone with the Berkovich area, degrees
@@ -48,7 +47,7 @@ def epsilon_from_exponent(m):
     it tends to 1 (flat punch) as m -> 1.
     """
     m = check_real("unloading exponent m", m, low=1.0, high=10.0, low_open=True)
-    ratio = math.exp(gammaln(m / (2.0 * (m - 1.0))) - gammaln(1.0 / (2.0 * (m - 1.0))))
+    ratio = math.exp(math.lgamma(m / (2.0 * (m - 1.0))) - math.lgamma(1.0 / (2.0 * (m - 1.0))))
     return float(m * (1.0 - 2.0 * ratio * (m - 1.0) / math.sqrt(math.pi)))
 
 
@@ -418,6 +417,7 @@ def fit_tip_radius(h_c, S, *, half_angle=BERKOVICH_CONE, beta=BETA_TRIANGULAR,
     A_i = (pi/4) (S_i / (beta E_r))^2 implied by the reference's known modulus; R is searched
     in log space within ``bounds`` (m).
     """
+    from scipy.optimize import minimize_scalar
     h_c, S = _reference_indents(h_c, S)
     A = reference_areas(S, beta=beta, reference=reference, indenter=indenter)
     lo = check_real("tip radius lower bound", bounds[0], low=LENGTH_RANGE[0], high=LENGTH_RANGE[1])
@@ -440,16 +440,15 @@ TIP_FORMS = ("berkovich[:R0]", "cube-corner[:R0]", "cone:THETA[:R0]", "sphere:R"
 
 
 def parse_length(text: str, what: str) -> float:
-    """A length in m from text such as 250nm, 5um, 2e-6 (m when no unit)."""
+    """A length in m from text such as 250nm, 5um, 2e-6 (m when no unit), or any length
+    pint reads ("5 µm", "0.5 mil")."""
     match = _NUMBER.match(text)
-    if not match or match.group(2) not in ("", *_LENGTH_UNITS):
-        raise InputError(f"{what} = {text!r} is not a length (a number in m, or with a unit "
-                         f"nm, um, mm)")
-    try:
-        value = float(match.group(1))
-    except ValueError:
-        raise InputError(f"{what} = {text!r} is not a number") from None
-    return value * _LENGTH_UNITS.get(match.group(2) or "m")
+    if match and match.group(2) in ("", *_LENGTH_UNITS):
+        try:        # the common units without pint: tips are parsed once per curve
+            return float(match.group(1)) * _LENGTH_UNITS.get(match.group(2) or "m")
+        except ValueError:
+            pass
+    return to_si(what, text, "m")
 
 
 def _truncation(text: str) -> float:

@@ -349,7 +349,7 @@ CASES = [
      "a normal approach has no tangential motion", ()),
     # usage errors: one line
     ("bad float", "impact scene.toml --velocity fast", 2,
-     "argument --velocity: invalid float value: 'fast' (see filmscale impact --help)", ()),
+     "--velocity must be a number, got 'fast' (or a speed in m/s or with units", ()),
     ("missing value", "indent reverse --C 1e11 --dPdh", 2,
      "argument --dPdh: expected one argument", ()),
     ("unknown option", "impact scene.toml --speed 1", 2, "unrecognized arguments: --speed 1",

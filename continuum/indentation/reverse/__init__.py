@@ -7,13 +7,18 @@ surrogate fitted to the packaged finite-element cases (`surrogate`, `data`) and 
 accuracy of each route (`validation`). Equations: docs/physics.md section 10.
 """
 
-from filmscale.continuum.indentation.reverse.dao import (ForwardResult, ReverseResult, dao_forward,
-                                                         dao_reverse, dao_reverse_repeated)
-from filmscale.continuum.indentation.reverse.dual import DualResult, dual_reverse
-from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, NU_I_DAO, loading_curvature,
-                                                               sharp_calibration, sharp_tip)
-from filmscale.continuum.indentation.reverse.validation import (CrossValidation, cross_validate,
-                                                                fe_error_table)
+from filmscale.core.lazy import lazy_exports
+
+#: public name -> the submodule that defines it (imported on first use, so that the
+#: command line starts without loading scipy's heavier parts)
+_WHERE = {
+    "ForwardResult": "dao", "ReverseResult": "dao", "dao_forward": "dao", "dao_reverse": "dao",
+    "dao_reverse_repeated": "dao",
+    "DualResult": "dual", "dual_reverse": "dual",
+    "E_I_DAO": "functions", "NU_I_DAO": "functions", "loading_curvature": "functions",
+    "sharp_calibration": "functions", "sharp_tip": "functions",
+    "CrossValidation": "validation", "cross_validate": "validation", "fe_error_table": "validation",
+}
 
 __all__ = [
     "dao_forward", "dao_reverse", "dao_reverse_repeated", "dual_reverse",
@@ -21,3 +26,5 @@ __all__ = [
     "loading_curvature",
     "E_I_DAO", "NU_I_DAO", "cross_validate", "CrossValidation", "fe_error_table",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

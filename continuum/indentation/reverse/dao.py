@@ -45,6 +45,7 @@ from filmscale.continuum.materials import modulus_from_reduced
 from filmscale.core.checks import MODULUS_MAX, check_choice, check_int, check_positive, check_real
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
+from filmscale.core.quantities import eng
 
 # --- validation helpers ---------------------------------------------------------------------
 
@@ -94,7 +95,9 @@ def _fmt_value(v, fmt=".6g"):
 
 
 def _summary_row(label, value, std, unit):
-    return f"  {label:<12} {_fmt_value(value)} +- {_fmt_value(std, '.3g')} {unit}".rstrip()
+    if value is None or not np.isfinite(value):
+        return f"  {label:<12} nan {unit}".rstrip()
+    return f"  {label:<12} {eng(value, unit, std=math.nan if std is None else std)}"
 
 
 @dataclass(frozen=True)
@@ -120,14 +123,14 @@ class ForwardResult:
 
     def summary(self) -> str:
         lines = [f"Sharp indentation, forward (Dao et al. 2001), tip {self.tip}, "
-                 f"h_m = {self.h_m:.4g} m",
-                 f"  E*              {_fmt_value(self.E_star)} Pa",
-                 f"  sigma_r         {_fmt_value(self.sigma_r)} Pa (eps_r = {self.eps_r:.4g})",
-                 f"  C = P/h^2       {_fmt_value(self.C)} Pa",
-                 f"  P_m             {_fmt_value(self.P_m)} N",
-                 f"  dP/dh           {_fmt_value(self.dPdh)} N/m",
-                 f"  A_m             {_fmt_value(self.A_m)} m^2",
-                 f"  p_ave           {_fmt_value(self.p_ave)} Pa",
+                 f"h_m = {eng(self.h_m, 'm')}",
+                 f"  E*              {eng(self.E_star, 'Pa')}",
+                 f"  sigma_r         {eng(self.sigma_r, 'Pa')} (eps_r = {self.eps_r:.4g})",
+                 f"  C = P/h^2       {eng(self.C, 'Pa')}",
+                 f"  P_m             {eng(self.P_m, 'N')}",
+                 f"  dP/dh           {eng(self.dPdh, 'N/m')}",
+                 f"  A_m             {self.A_m * 1e12:.4g} µm^2",
+                 f"  p_ave           {eng(self.p_ave, 'Pa')}",
                  f"  h_r/h_m         {_fmt_value(self.hr_hm, '.4f')}",
                  f"  W_p/W_t         {_fmt_value(self.WpWt, '.4f')}"]
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])

@@ -27,9 +27,48 @@ from filmscale.workflows.units import (calibration_part, calibration_unit, done_
 
 @dataclass(frozen=True)
 class SceneResult:
+    """What `run_scene` wrote (``path``, the HDF5 result), the plan it followed and which
+    units ran; the methods read the result back for a notebook."""
+
     path: Path
     plan: Plan
     units: dict            #: unit directory -> "ran" or "reused"
+
+    def to_xarray(self):
+        """The impact map (impact/map) as an xarray Dataset over (radius, velocity), SI
+        with ``units`` attributes, each field's standard deviation from the calibrations
+        (impact/map_std) as ``<field>_std`` where the calibrations give one."""
+        import xarray as xr
+        with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map") as ds:
+            ds = ds.load()
+        try:
+            with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map_std") as std:
+                std = std.load()
+        except OSError:         # no group: no calibrated spread
+            return ds
+        return ds.merge(std.rename({k: f"{k}_std" for k in std.data_vars}))
+
+    def to_dataframe(self):
+        """The scene's impact (impact/point) as a table: one row per quantity, its value,
+        standard deviation from the calibrations (NaN where none) and unit (SI)."""
+        import h5py
+        import pandas as pd
+
+        from filmscale.continuum.contact.impact_map import map_units
+        units = map_units()
+        with h5py.File(self.path, "r") as f:
+            point = {k: float(f["impact/point"][k][()]) for k in f["impact/point"]}
+            std = ({k: float(v[()]) for k, v in f["impact/point_std"].items()}
+                   if "point_std" in f["impact"] else {})
+        return pd.DataFrame({"value": point,
+                             "std": {k: std.get(k, float("nan")) for k in point},
+                             "unit": {k: units.get(k, "") for k in point}}).rename_axis(
+                                 "quantity")
+
+    def figure(self):
+        """The summary Figure of `filmscale run --figure` (`report.scene_figure`)."""
+        from filmscale.workflows.report import scene_figure
+        return scene_figure(self.path)
 
 
 def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> SceneResult:

@@ -17,15 +17,15 @@ import numpy as np
 from filmscale.continuum.calibration.result import CrossCheck, pop_in_bottom
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
-from filmscale.workflows.result import RESULT_FORMAT
+from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS, read_map_group
 
-from .plots import plt
+from .plots import _figure, draw_map_field, save_figure
 
 
 def _png(fig) -> str:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100)
-    plt.close(fig)
     return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
 
 
@@ -36,7 +36,7 @@ def check_result(result) -> Path:
     if not result.is_file():
         raise InputError(f"result {result} does not exist" if not result.exists() else
                          f"result {result} is a folder, not a file")
-    if hdf5_format(result) != RESULT_FORMAT:
+    if hdf5_format(result) not in RESULT_FORMATS:
         raise InputError(f"{result} is {describe(result)}; report expects a scene result "
                          f"(format {RESULT_FORMAT}, the RESULT.h5 of filmscale run)")
     return result
@@ -119,14 +119,9 @@ MAP_PANELS = (("delta_max", "maximum approach (nm)", 1e9),
               ("residual_depth", "residual depth (nm)", 1e9))
 
 
-def _draw_map(fig, ax, group, key, label, scale):
-    c = ax.contourf(group["velocity"][()], group["radius"][()] * 1e6, group[key][()] * scale,
-                    levels=20, cmap="viridis")
-    fig.colorbar(c, ax=ax, label=label)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("impact velocity V (m/s)")
-    ax.set_ylabel("sphere radius R (um)")
+def result_map(group) -> ImpactMap:
+    """The impact map of a scene result's impact/map group (either layout: /2 or /3)."""
+    return ImpactMap.from_arrays(read_map_group(group))
 
 
 def _draw_band(ax, impact, key, label, scale):
@@ -149,58 +144,68 @@ def _draw_band(ax, impact, key, label, scale):
 
 
 def _panel(draw, *args, size=(5, 3.6)) -> str:
-    fig, ax = plt.subplots(figsize=size, constrained_layout=True)
+    fig, ax = _figure(figsize=size)
     draw(ax, *args)
     return _png(fig)
 
 
 def _map_figure(group) -> str:
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
-    for ax, panel in zip(axes, MAP_PANELS):
-        _draw_map(fig, ax, group, *panel)
+    fig, axes = _figure(1, 3, figsize=(13, 3.6))
+    m = result_map(group)
+    for ax, (key, label, _) in zip(axes, MAP_PANELS):
+        draw_map_field(fig, ax, m, key, label=label)
     return _png(fig)
 
 
 def _band_figure(impact) -> str:
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
+    fig, axes = _figure(1, 2, figsize=(10, 3.6))
     for ax, panel in zip(axes, MAP_PANELS[:2]):
         _draw_band(ax, impact, *panel)
     return _png(fig)
 
 
-def write_figure(result, out) -> Path:
-    """One PNG summary of a scene result: the first calibrated layer's curves with the
+def scene_figure(result):
+    """One Figure summing up a scene result: the first calibrated layer's curves with the
     calibrated forward model, the depth profile, and the map's maximum approach and
     restitution (when there is a map), with their +- 2 std bands at the scene's radius (when
     the calibrations give standard deviations)."""
-    result, out = Path(result), Path(out)
-    with _result_file(result) as f:
+    with _result_file(Path(result)) as f:
         has_map = "map" in f["impact"]
         bands = has_map and "map_std" in f["impact"]
-        fig, axes = plt.subplots(1 + bands, 4 if has_map else 2,
-                                 figsize=(17 if has_map else 9, 3.8 * (1 + bands)),
-                                 constrained_layout=True, squeeze=False)
+        fig, axes = _figure(1 + bands, 4 if has_map else 2, squeeze=False,
+                            figsize=(17 if has_map else 9, 3.8 * (1 + bands)))
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
             rms = ", ".join(f"{c.rms:.0%} rms" + (f" after the {c.excluded}" if c.excluded
                                                    else "")
                             + f", check {'passed' if c.passed else 'failed'}"
                             for c in _checks(g))
+            cal = json.loads(g.attrs["calibration"])
             _draw_calibration(axes[0, 0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} "
-                              f"GPa, sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa\n({rms})")
+                              f"GPa, sigma_y {_bounded(cal['sigma_y'], 1e-9, '.2g')} GPa"
+                              f"\n({rms})")
         _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
-            for ax, panel in zip(axes[0, 2:], MAP_PANELS[:2]):
-                _draw_map(fig, ax, f["impact/map"], *panel)
+            m = result_map(f["impact/map"])
+            for ax, (key, label, _) in zip(axes[0, 2:], MAP_PANELS[:2]):
+                draw_map_field(fig, ax, m, key, label=label)
         if bands:
             for ax, panel in zip(axes[1, :2], MAP_PANELS[:2]):
                 _draw_band(ax, f["impact"], *panel)
             for ax in axes[1, 2:]:
                 ax.axis("off")
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, format="png", dpi=90)
-    plt.close(fig)
-    return out
+    return fig
+
+
+def write_figure(result, out) -> Path:
+    """`scene_figure` of a scene result, saved as PNG to ``out``."""
+    return save_figure(scene_figure(result), out)
+
+
+def _bounded(parameter: dict, scale: float = 1.0, fmt: str = ".4g") -> str:
+    """A calibrated value for people: ">= value" when the data bound it only from below."""
+    text = f"{parameter['value'] * scale:{fmt}}"
+    return f">= {text}" if parameter.get("lower_bound") else text
 
 
 def _number(value, fmt: str, unit: str = "") -> str:
@@ -244,7 +249,7 @@ def write_report(result, out=None) -> Path:
         for key in f["calibration"]:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
-            rows = [(name, f"{cal[name]['value']:.4g}",
+            rows = [(name, _bounded(cal[name]),
                      _number(cal[name]["std"], ".3g"), cal[name]["unit"],
                      "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
                     for name in ("E", "sigma_y", "n", "h_star") if cal.get(name)]

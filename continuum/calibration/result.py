@@ -41,6 +41,8 @@ class Parameter:
     unit: str
     identified: bool
     reason: str = ""      #: why not identified, or how the value was fixed
+    #: the data bound the value only from below (an elastic curve's sigma_y): shown ">="
+    lower_bound: bool = False
 
     @classmethod
     def from_dict(cls, d: dict) -> Parameter:
@@ -50,7 +52,8 @@ class Parameter:
     def text(self) -> str:
         std = "" if math.isnan(self.std) else f" +- {self.std:.3g}"
         tag = "" if self.identified else f"  [not identified: {self.reason}]"
-        return f"{self.value:.4g}{std} {self.unit}".rstrip() + tag
+        bound = ">= " if self.lower_bound else ""
+        return f"{bound}{self.value:.4g}{std} {self.unit}".rstrip() + tag
 
 
 @dataclass(frozen=True)

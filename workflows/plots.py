@@ -171,9 +171,17 @@ def _fill(ax, m, z, field, levels, norm):
     linear = field == "restitution" or field in LINEAR
     z = z if linear else np.where(z > 0, z, np.nan)
     filled = None
+    ax.set_xlim(V.min(), V.max())
+    ax.set_ylim(Y.min(), Y.max())
     if levels is not None and np.isfinite(z).any():
         filled = ax.contourf(V, Y, z, levels=levels, norm=norm, cmap="viridis",
                              extend="neither" if len(levels) == 2 else "both")
+    else:           # say why the panel is blank rather than leave an empty frame
+        computed = z[~m.out_of_range]
+        why = ("0 everywhere" if computed.size and np.all(np.nan_to_num(computed) == 0)
+               else "nothing computed")
+        ax.text(0.5, 0.5, f"{DISPLAY[field][0]}:\n{why}", transform=ax.transAxes,
+                ha="center", va="center", color="0.3")
     yielded = m.yielded.astype(float)
     if 0 < yielded.mean() < 1:
         ax.contour(V, Y, yielded, levels=[0.5], colors="w", linestyles="--", linewidths=1.0)

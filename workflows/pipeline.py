@@ -10,6 +10,7 @@ and an interrupted scene resumes where it stopped.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -46,7 +47,7 @@ class SceneResult:
                 std = std.load()
         except OSError:         # no group: no calibrated spread
             return ds
-        return ds.merge(std.rename({k: f"{k}_std" for k in std.data_vars}))
+        return ds.assign({f"{k}_std": std[k] for k in std.data_vars})
 
     def to_dataframe(self):
         """The scene's impact (impact/point) as a table: one row per quantity, its value,
@@ -64,6 +65,15 @@ class SceneResult:
                              "std": {k: std.get(k, float("nan")) for k in point},
                              "unit": {k: units.get(k, "") for k in point}}).rename_axis(
                                  "quantity")
+
+    def calibrations(self) -> dict[str, Calibration]:
+        """The calibrated layers by name, as `Calibration` objects (value, std, identified
+        of E, sigma_y, n; ``summary()``)."""
+        import h5py
+        with h5py.File(self.path, "r") as f:
+            cals = [Calibration.from_dict(json.loads(g.attrs["calibration"]))
+                    for g in f["calibration"].values()]
+        return {c.layer: c for c in cals}
 
     def figure(self):
         """The summary Figure of `filmscale run --figure` (`report.scene_figure`)."""

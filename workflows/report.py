@@ -66,8 +66,13 @@ def _draw_calibration(ax, group, title: str):
     curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
     depths = [float(group[k]["h"][()].max()) for k in curves]
     excluded = any(c.excluded == "pop-in" for c in _checks(group))
+    largest = max(float(np.nanmax(group[k]["P"][()])) for k in curves) if curves else 1.0
+    # the load unit that keeps the axis at 1-1000 (MD curves nN, instruments uN to mN)
+    unit, factor = next(((u, f) for u, f in (("nN", 1e9), ("µN", 1e6), ("mN", 1e3))
+                         if largest * f < 1e3), ("N", 1.0))
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
+        P, F = P * factor / 1e9, F * factor / 1e9
         color = f"C{i % 10}"
         bottom = pop_in_bottom(h, P) if excluded else None
         if bottom is not None:
@@ -82,7 +87,7 @@ def _draw_calibration(ax, group, title: str):
         ax.set_xscale("log")
         ax.set_yscale("log")
     ax.set_xlabel("depth h (nm)")
-    ax.set_ylabel("load P (nN)")
+    ax.set_ylabel(f"load P ({unit})")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, loc="lower right")
 
@@ -131,7 +136,9 @@ def _draw_band(ax, impact, key, label, scale):
     i = int(np.argmin(np.abs(np.log(R / float(impact["point/radius"][()])))))
     value = impact[f"map/{key}"][()][i] * scale
     std = impact[f"map_std/{key}"][()][i] * scale
-    ax.fill_between(V, value - 2 * std, value + 2 * std, alpha=0.3,
+    # a linearised band must not promise a rebound faster than the impact
+    high = np.minimum(value + 2 * std, 1.0) if key == "restitution" else value + 2 * std
+    ax.fill_between(V, value - 2 * std, high, alpha=0.3,
                     label="+- 2 std (calibration)")
     ax.plot(V, value, label=f"R = {R[i] * 1e6:.3g} um")
     ax.set_xscale("log")

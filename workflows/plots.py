@@ -185,7 +185,7 @@ def _fill(ax, m, z, field, levels, norm):
     yielded = m.yielded.astype(float)
     if 0 < yielded.mean() < 1:
         ax.contour(V, Y, yielded, levels=[0.5], colors="w", linestyles="--", linewidths=1.0)
-    _hatch_out_of_range(ax, V, Y, m)
+    _hatch_out_of_range(ax, V, Y, m.out_of_range)
     return filled
 
 
@@ -236,7 +236,9 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path=None, fields
                                        norm=rnorm, cmap="RdBu_r")
                 _colorbar(fig, filled_q, ax, f"{'difference' if difference else 'ratio'} of "
                           f"{name}" + (f" ({unit})" if difference else ""), rnorm)
-            _hatch_out_of_range(ax, V, Y, first)
+            # the comparison holds where both maps do: hatched where either is out of range
+            _hatch_out_of_range(ax, V, Y, np.logical_or.reduce(
+                [maps[lab].out_of_range for lab in labels]))
             _style_axes(ax, first, r == 0, r == rows - 1, False,
                         f"{labels[0]} {'-' if difference else '/'} {labels[1]}")
     if title:
@@ -247,8 +249,8 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path=None, fields
     return _done(fig, path)
 
 
-def _hatch_out_of_range(ax, V, Y, m: ImpactMap | CylinderMap):
-    out = m.out_of_range.astype(float)
+def _hatch_out_of_range(ax, V, Y, out_of_range: np.ndarray):
+    out = out_of_range.astype(float)
     if out.any():
         ax.contourf(V, Y, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
 

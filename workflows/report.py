@@ -156,11 +156,24 @@ def _panel(draw, *args, size=(5, 3.6)) -> str:
     return _png(fig)
 
 
-def _map_figure(group) -> str:
+def bound_note(calibration_group) -> str:
+    """What the impact results rest on when a calibrated sigma_y is only a lower bound (the
+    curves never passed first yield): the maps are computed at the bound, not bounds
+    themselves (with some laws, e.g. Jackson-Green, e_y is not monotonic in sigma_y)."""
+    bounded = [(c["layer"], c["sigma_y"]["value"]) for c in
+               (json.loads(g.attrs["calibration"]) for g in calibration_group.values())
+               if c["sigma_y"].get("lower_bound")]
+    return "; ".join(f"computed with {layer}'s sigma_y at its lower bound (>= {value / 1e9:.3g} "
+                     "GPa)" for layer, value in bounded)
+
+
+def _map_figure(group, note: str = "") -> str:
     fig, axes = _figure(1, 3, figsize=(13, 3.6))
     m = result_map(group)
     for ax, (key, label, _) in zip(axes, MAP_PANELS):
         draw_map_field(fig, ax, m, key, label=label)
+    if note:
+        fig.suptitle(note, fontsize=9)
     return _png(fig)
 
 
@@ -194,8 +207,10 @@ def scene_figure(result):
         _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
             m = result_map(f["impact/map"])
+            note = bound_note(f["calibration"])
             for ax, (key, label, _) in zip(axes[0, 2:], MAP_PANELS[:2]):
                 draw_map_field(fig, ax, m, key, label=label)
+                ax.set_title(note.replace(" (>=", "\n(>="), fontsize=8)
         if bands:
             for ax, panel in zip(axes[1, :2], MAP_PANELS[:2]):
                 _draw_band(ax, f["impact"], *panel)
@@ -285,7 +300,9 @@ def write_report(result, out=None) -> Path:
         parts.append(_table([(k, f"{float(point[k][()]):.5g}") for k in sorted(point)],
                             ("quantity (SI)", "value")))
         if "map" in f["impact"]:
-            parts.append(_map_figure(f["impact/map"]))
+            note = bound_note(f["calibration"])
+            parts += [f"<p>Map {html.escape(note)}.</p>" if note else "",
+                      _map_figure(f["impact/map"], note)]
         if "map_std" in f["impact"]:
             parts += ["<p>Bands: +- 2 standard deviations of the impact results from the "
                       "calibrated parameters' standard deviations (linearised, parameters "

@@ -137,3 +137,36 @@ def test_maps_draw_as_figures_hatched_out_of_range_and_constant_fields_in_one_co
     draw_map_field(fig, fig.subplots(), soft, "restitution")
     bar = fig.axes[-1]
     assert list(bar.get_yticks()) == [1.0] and bar.get_ylabel().endswith(": constant")
+
+
+def test_a_lower_bound_is_shown_as_one_in_the_report_and_the_figure(tmp_path):
+    """A film curve that stays below first yield bounds sigma_y from below only: the scene
+    result's report writes ">=" in the parameter table, and the report's and the summary
+    figure's maps say they are computed at that bound."""
+    from filmscale.continuum.materials import DIAMOND
+    from filmscale.workflows import pipeline as pl
+    from filmscale.workflows.report import scene_figure, write_report
+    from filmscale.workflows.scene import parse_pipeline
+    from tests.workflows.test_pipeline import BASE
+    E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
+    law = contact_law("komvopoulos-ye-continuous")
+    E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
+    h = np.linspace(0.05, 0.8, 80) * float(law.first_yield(R, E_r, sy, nu).approach)
+    P = law.contact(h, R, E_r, sy, nu).force
+    (tmp_path / "film.csv").write_text(
+        "h [nm], P [uN]\n" + "".join(f"{a * 1e9:.6f}, {b * 1e6:.8f}\n" for a, b in zip(h, P)))
+    film = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
+    text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
+                       want='["maxima", "map"]') + \
+        "[map]\nvelocity = [0.1, 10.0, 4]\nradius = [1e-7, 1e-5, 3]\n"
+    result = pl.run_scene(parse_pipeline(text, "b.toml", tmp_path), tmp_path / "store",
+                          tmp_path / "b.h5")
+    (cal,) = result.calibrations().values()
+    assert cal.sigma_y.lower_bound and cal.sigma_y.value <= sy
+    html = write_report(result.path).read_text()
+    assert f"<td>&gt;= {cal.sigma_y.value:.4g}</td>" in html
+    assert (f"Map computed with film&#x27;s sigma_y at its lower bound (&gt;= "
+            f"{cal.sigma_y.value / 1e9:.3g} GPa)") in html
+    titles = [ax.get_title() for ax in scene_figure(result.path).axes]
+    assert any(f">= {cal.sigma_y.value / 1e9:.3g} GPa" in t for t in titles)
+    assert any(f"sigma_y >= {cal.sigma_y.value / 1e9:.2g} GPa" in t for t in titles)

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
+from filmscale.core.errors import InputError
 from filmscale.workflows.plan import Plan, check_request, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
@@ -39,14 +40,19 @@ class SceneResult:
         """The impact map (impact/map) as an xarray Dataset over (radius, velocity), SI
         with ``units`` attributes, each field's standard deviation from the calibrations
         (impact/map_std) as ``<field>_std`` where the calibrations give one."""
+        import h5py
         import xarray as xr
+        with h5py.File(self.path, "r") as f:
+            groups = [g for g in ("map", "map_std") if g in f["impact"]]
+        if "map" not in groups:
+            raise InputError(f"{self.path} holds no impact map: the scene's [outputs] want "
+                             "no \"map\"")
         with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map") as ds:
             ds = ds.load()
-        try:
-            with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map_std") as std:
-                std = std.load()
-        except OSError:         # no group: no calibrated spread
+        if "map_std" not in groups:         # no calibrated spread
             return ds
+        with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map_std") as std:
+            std = std.load()
         return ds.assign({f"{k}_std": std[k] for k in std.data_vars})
 
     def to_dataframe(self):

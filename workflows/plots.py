@@ -151,7 +151,7 @@ def _figure(rows: int = 1, cols: int = 1, **kwargs):
     return fig, fig.subplots(rows, cols, **kwargs)
 
 
-def draw_map_field(fig: Figure, ax, m: ImpactMap | CylinderMap, field: str, scale=None,
+def draw_map_field(fig: Figure, ax, m: ImpactMap | CylinderMap, field: str,
                    label: str | None = None):
     """One field of one map on ``ax`` with its own colour bar, as `plot_impact_maps` draws
     it: hatched out of range, dashed first yield, a constant field in one colour."""
@@ -258,7 +258,7 @@ def _hatch_out_of_range(ax, V, Y, out_of_range: np.ndarray):
 def plot_history(history: ImpactHistory | CylinderImpactHistory, path=None,
                  title: str = "") -> Figure:
     """Force against approach, and approach and force against time, of one impact of a
-    sphere or a cylinder."""
+    sphere or a cylinder; the Figure, also saved to ``path`` when given."""
     res = history.result
     if isinstance(history, CylinderImpactHistory):
         # a line contact's approach is measured from the datum depth d
@@ -290,7 +290,8 @@ def plot_history(history: ImpactHistory | CylinderImpactHistory, path=None,
 
 def plot_curve_analysis(curve, result, path=None, title: str = "") -> Figure:
     """One indentation curve with its Oliver-Pharr fits: the unloading power law over its
-    window, the tangent of slope S at h_max, and h_c, h_f marked."""
+    window, the tangent of slope S at h_max, and h_c, h_f marked; the Figure, also saved to
+    ``path`` when given."""
     from filmscale.continuum.indentation.curves import SEGMENT_NAMES
 
     c = curve.finite()
@@ -330,7 +331,8 @@ def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
                           indenter_compliance=0.0, title: str = "") -> Figure:
     """E_r and H against contact depth: every indent, group means with their standard
     deviation, layer bands, the piecewise fit (a `TableProfile`, E_r recomputed with the
-    indenter compliance, 1/Pa) and the Nix-Gao curve when given."""
+    indenter compliance, 1/Pa) and the Nix-Gao curve when given; the Figure, also saved to
+    ``path`` when given."""
     fig, axes = _figure(1, 2, figsize=(9.5, 4.0), sharex=True)
     edges = [0.0, *profile.interfaces, float(np.max(profile.h_c)) * 1.05]
     for ax, key, name in ((axes[0], "E_r", "reduced modulus E_r (GPa)"),

@@ -245,6 +245,8 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
         assert check["passed"] and check["rms"] == pytest.approx(0.01, rel=0.3)
         assert json.loads(f.attrs["plan"])["steps"][0]["name"] == "calibrate film"
     assert "cross-scale check passed" in write_report(result.path).read_text()
+    with pytest.raises(InputError, match="holds no impact map"):     # want has no "map"
+        result.to_xarray()
 
 
 def test_calibration_sources_are_checked_before_any_run(tmp_path):

@@ -17,8 +17,8 @@ _WHERE = {
     "write_scene_result": "result", "write_impact_maps": "result",
     "read_impact_maps": "result", "write_indentation_results": "result",
     "read_indentation_results": "result",
-    "write_report": "report", "write_figure": "report",
-    "plot_impact_maps": "plots", "plot_history": "plots",
+    "write_report": "report", "write_figure": "report", "scene_figure": "report",
+    "plot_impact_maps": "plots", "plot_history": "plots", "save_figure": "plots",
     "analyze_files": "indent", "AnalysisOptions": "indent",
     "main": "cli",
 }

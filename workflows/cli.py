@@ -215,9 +215,10 @@ def cmd_impact_map(args) -> int:
     if args.plot and (velocity.size < 2 or n_rows < 2):
         rows = "angles" if args.angle is not None else "radii"
         raise InputError(f"--plot draws contours: give at least 2 velocities and 2 {rows}")
-    from .result import IMPACT_MAP_FORMAT
+    from .result import IMPACT_MAP_FORMAT, IMPACT_MAP_FORMAT_1
     check_outputs(_scene_files(scene),
-                  [("--out", args.out, hdf5_kind(IMPACT_MAP_FORMAT, "an impact map")),
+                  [("--out", args.out, hdf5_kind((IMPACT_MAP_FORMAT, IMPACT_MAP_FORMAT_1),
+                                                 "an impact map")),
                    ("--plot", args.plot, image_kind(args.plot))], args.force)
     if cylinder:
         models = _cylinder_models(scene)

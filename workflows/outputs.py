@@ -62,8 +62,10 @@ def hdf5_format(path: Path) -> str | None:
     return value.decode() if isinstance(value, bytes) else value
 
 
-def hdf5_kind(fmt: str, description: str) -> Kind:
-    return Kind(description, lambda path: hdf5_format(path) == fmt)
+def hdf5_kind(fmt: str | tuple[str, ...], description: str) -> Kind:
+    """A filmscale HDF5 output of format ``fmt`` (or any of several: earlier layouts)."""
+    formats = (fmt,) if isinstance(fmt, str) else fmt
+    return Kind(description, lambda path: hdf5_format(path) in formats)
 
 
 def text_kind(first_line: str | tuple[str, ...], description: str) -> Kind:
@@ -115,9 +117,11 @@ def _formats() -> dict[str, str]:
     from filmscale.md.particle_run import RECORD_FORMAT as PARTICLE_RECORD
     from filmscale.md.record import RECORD_FORMAT as MD_RECORD
 
-    from .result import IMPACT_MAP_FORMAT, INDENT_RESULTS_FORMAT, RESULT_FORMAT
-    return {RESULT_FORMAT: "a scene result (filmscale run)",
+    from .result import (IMPACT_MAP_FORMAT, IMPACT_MAP_FORMAT_1, INDENT_RESULTS_FORMAT,
+                         RESULT_FORMATS)
+    return {**{fmt: "a scene result (filmscale run)" for fmt in RESULT_FORMATS},
             IMPACT_MAP_FORMAT: "an impact map (filmscale impact-map)",
+            IMPACT_MAP_FORMAT_1: "an impact map (filmscale impact-map)",
             INDENT_RESULTS_FORMAT: "indentation results (filmscale indent analyze)",
             MD_RECORD: "an MD indentation record (filmscale md indent)",
             PARTICLE_RECORD: "a particle-model record (filmscale particles)",

@@ -10,6 +10,7 @@ and an interrupted scene resumes where it stopped.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -17,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
+from filmscale.core.errors import InputError
 from filmscale.workflows.plan import Plan, check_request, plan_scene
 from filmscale.workflows.result import write_scene_result
 from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
@@ -27,9 +29,62 @@ from filmscale.workflows.units import (calibration_part, calibration_unit, done_
 
 @dataclass(frozen=True)
 class SceneResult:
+    """What `run_scene` wrote (``path``, the HDF5 result), the plan it followed and which
+    units ran; the methods read the result back for a notebook."""
+
     path: Path
     plan: Plan
     units: dict            #: unit directory -> "ran" or "reused"
+
+    def to_xarray(self):
+        """The impact map (impact/map) as an xarray Dataset over (radius, velocity), SI
+        with ``units`` attributes, each field's standard deviation from the calibrations
+        (impact/map_std) as ``<field>_std`` where the calibrations give one."""
+        import h5py
+        import xarray as xr
+        with h5py.File(self.path, "r") as f:
+            groups = [g for g in ("map", "map_std") if g in f["impact"]]
+        if "map" not in groups:
+            raise InputError(f"{self.path} holds no impact map: the scene's [outputs] want "
+                             "no \"map\"")
+        with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map") as ds:
+            ds = ds.load()
+        if "map_std" not in groups:         # no calibrated spread
+            return ds
+        with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map_std") as std:
+            std = std.load()
+        return ds.assign({f"{k}_std": std[k] for k in std.data_vars})
+
+    def to_dataframe(self):
+        """The scene's impact (impact/point) as a table: one row per quantity, its value,
+        standard deviation from the calibrations (NaN where none) and unit (SI)."""
+        import h5py
+        import pandas as pd
+
+        from filmscale.continuum.contact.impact_map import map_units
+        units = map_units()
+        with h5py.File(self.path, "r") as f:
+            point = {k: float(f["impact/point"][k][()]) for k in f["impact/point"]}
+            std = ({k: float(v[()]) for k, v in f["impact/point_std"].items()}
+                   if "point_std" in f["impact"] else {})
+        return pd.DataFrame({"value": point,
+                             "std": {k: std.get(k, float("nan")) for k in point},
+                             "unit": {k: units.get(k, "") for k in point}}).rename_axis(
+                                 "quantity")
+
+    def calibrations(self) -> dict[str, Calibration]:
+        """The calibrated layers by name, as `Calibration` objects (value, std, identified
+        of E, sigma_y, n; ``summary()``)."""
+        import h5py
+        with h5py.File(self.path, "r") as f:
+            cals = [Calibration.from_dict(json.loads(g.attrs["calibration"]))
+                    for g in f["calibration"].values()]
+        return {c.layer: c for c in cals}
+
+    def figure(self):
+        """The summary Figure of `filmscale run --figure` (`report.scene_figure`)."""
+        from filmscale.workflows.report import scene_figure
+        return scene_figure(self.path)
 
 
 def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> SceneResult:

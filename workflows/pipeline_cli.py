@@ -21,8 +21,8 @@ def _store_folder(store) -> Path:
 
 
 def _scene_result_kind():
-    from .result import RESULT_FORMAT
-    return hdf5_kind(RESULT_FORMAT, "a scene result")
+    from .result import RESULT_FORMATS
+    return hdf5_kind(RESULT_FORMATS, "a scene result")
 
 
 #: the index of a sweep's scenes that `sweep run` writes

@@ -1,22 +1,22 @@
-"""Plots for people: impact-map contours and impact histories (matplotlib, no display needed).
+"""Plots for people: impact-map contours and impact histories, indentation curves and
+property profiles. Every function returns a matplotlib `Figure` (shown by Jupyter as it is,
+saved with `save_figure` or the ``path`` argument); figures are made without pyplot, so a
+script or a notebook keeps its own backend and no figure stays open in pyplot's registry.
 
 Maps put targets side by side (layered and bare substrate, like the seed dissertation's
 Figs. 3.2-3.5) with one colour scale per quantity, the first-yield boundary dashed, and
-points whose approach would exceed R hatched.
+points whose approach would exceed R hatched (in every map filmscale draws).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
-from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm  # noqa: E402
-from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter  # noqa: E402
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
+from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter
 
 from filmscale.continuum.contact.cylinder import CylinderImpactHistory
 from filmscale.continuum.contact.impact import ImpactHistory
@@ -51,26 +51,24 @@ OBLIQUE_PLOT_FIELDS = ("restitution_tangential", "restitution_contact_point", "r
 
 
 def _levels(values: list[np.ndarray], field: str):
+    """(contour levels, norm, the value when the field is constant else None) of a field
+    over all maps; (None, None, None) when nothing is drawable. A constant field is drawn
+    in one colour with one tick, its value, instead of a colour bar over a made-up span."""
     finite = np.concatenate([v[np.isfinite(v)].ravel() for v in values])
+    if field not in LINEAR and field != "restitution":
+        finite = finite[finite > 0]
+    if finite.size == 0:
+        return None, None, None
+    lo, hi = float(finite.min()), float(finite.max())
+    if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1e-300):
+        pad = 0.01 * (abs(lo) or 1.0)
+        return np.array([lo - pad, lo + pad]), Normalize(lo - pad, lo + pad), lo
     if field == "restitution":
-        lo = float(np.min(finite)) if finite.size else 0.0
         lo = min(lo, 0.999)
-        return np.linspace(lo, 1.0, 21), Normalize(lo, 1.0)
+        return np.linspace(lo, 1.0, 21), Normalize(lo, 1.0), None
     if field in LINEAR:
-        if finite.size == 0:
-            return None, None
-        lo, hi = float(finite.min()), float(finite.max())
-        if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1.0):    # constant: a readable band
-            pad = 0.01 * max(abs(lo), 1.0)
-            lo, hi = lo - pad, hi + pad
-        return np.linspace(lo, hi, 21), Normalize(lo, hi)
-    positive = finite[finite > 0]
-    if positive.size == 0:
-        return None, None
-    lo, hi = float(positive.min()), float(positive.max())
-    if hi <= lo * 1.0001:
-        hi = lo * 1.01
-    return np.geomspace(lo, hi, 21), LogNorm(lo, hi)
+        return np.linspace(lo, hi, 21), Normalize(lo, hi), None
+    return np.geomspace(lo, hi, 21), LogNorm(lo, hi), None
 
 
 def _nice_ticks(lo: float, hi: float, log: bool) -> np.ndarray:
@@ -86,8 +84,14 @@ def _nice_ticks(lo: float, hi: float, log: bool) -> np.ndarray:
     return ticks if ticks.size >= 2 else np.array([lo, hi])
 
 
-def _colorbar(fig, mappable, axes, label, norm):
+def _colorbar(fig, mappable, axes, label, norm, constant=None):
     cb = fig.colorbar(mappable, ax=axes, shrink=0.95)
+    if constant is not None:
+        cb.set_ticks([constant])
+        cb.ax.yaxis.set_major_formatter(FormatStrFormatter("%.4g"))
+        cb.ax.yaxis.set_minor_formatter(NullFormatter())
+        cb.set_label(f"{label}: constant")
+        return
     ticks = _nice_ticks(norm.vmin, norm.vmax, isinstance(norm, LogNorm))
     cb.set_ticks(ticks)
     # enough digits that neighbouring ticks differ (a ratio of 0.999-1.001 needs four)
@@ -127,16 +131,68 @@ def _style_axes(ax, m: ImpactMap | CylinderMap, first_row: bool, last_row: bool,
         ax.set_ylabel(label)
 
 
-def _save(fig, path) -> Path:
+def save_figure(fig: Figure, path) -> Path:
+    """Write ``fig`` to ``path`` atomically, in the format of its suffix (PNG when none)."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format=Path(path).suffix.lstrip(".") or "png")
-    plt.close(fig)
     return Path(path)
 
 
-def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None,
-                     title: str = "") -> Path:
-    """Contour plots of ``fields`` (rows) for each labelled map (columns), saved to ``path``.
+def _done(fig: Figure, path) -> Figure:
+    if path is not None:
+        save_figure(fig, path)
+    return fig
+
+
+def _figure(rows: int = 1, cols: int = 1, **kwargs):
+    """A pyplot-free figure and its axes (an array when ``squeeze`` is False)."""
+    layout = kwargs.pop("layout", "constrained")
+    fig = Figure(figsize=kwargs.pop("figsize"), layout=layout)
+    return fig, fig.subplots(rows, cols, **kwargs)
+
+
+def draw_map_field(fig: Figure, ax, m: ImpactMap | CylinderMap, field: str,
+                   label: str | None = None):
+    """One field of one map on ``ax`` with its own colour bar, as `plot_impact_maps` draws
+    it: hatched out of range, dashed first yield, a constant field in one colour."""
+    name, unit, factor = DISPLAY[field]
+    z = m.field(field) * factor
+    levels, norm, constant = _levels([z], field)
+    filled = _fill(ax, m, z, field, levels, norm)
+    if filled is not None:
+        _colorbar(fig, filled, ax, label or f"{name} ({unit})", norm, constant)
+    _style_axes(ax, m, True, True, True, "")
+
+
+def _fill(ax, m, z, field, levels, norm):
+    """Filled contours of ``z`` (display units) on a map's grid, the first-yield line and
+    the out-of-range hatching; the contour set, or None when nothing was drawable."""
+    V, Y = np.meshgrid(m.velocity, _rows(m)[0])
+    linear = field == "restitution" or field in LINEAR
+    z = z if linear else np.where(z > 0, z, np.nan)
+    filled = None
+    ax.set_xlim(V.min(), V.max())
+    ax.set_ylim(Y.min(), Y.max())
+    if levels is not None and np.isfinite(z).any():
+        filled = ax.contourf(V, Y, z, levels=levels, norm=norm, cmap="viridis",
+                             extend="neither" if len(levels) == 2 else "both")
+    else:           # say why the panel is blank rather than leave an empty frame
+        computed = z[~m.out_of_range]
+        why = ("0 everywhere" if computed.size and np.all(np.nan_to_num(computed) == 0)
+               else "nothing computed")
+        ax.text(0.5, 0.5, f"{DISPLAY[field][0]}:\n{why}", transform=ax.transAxes,
+                ha="center", va="center", color="0.3")
+    yielded = m.yielded.astype(float)
+    if 0 < yielded.mean() < 1:
+        ax.contour(V, Y, yielded, levels=[0.5], colors="w", linestyles="--", linewidths=1.0)
+    _hatch_out_of_range(ax, V, Y, m.out_of_range)
+    return filled
+
+
+def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path=None, fields=None,
+                     title: str = "") -> Figure:
+    """Contour plots of ``fields`` (rows) for each labelled map (columns); the Figure, also
+    saved to ``path`` when given.
 
     ``fields`` None: the maps' own (MAP_FIELDS for spheres) and, for an oblique map, its
     tangential results; a map over (V, angle) shows e_y and the tangential results only (the
@@ -150,30 +206,19 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
         fields += OBLIQUE_PLOT_FIELDS if getattr(first, "tangential", None) else ()
     ratio = len(labels) == 2
     rows, cols = len(fields), len(labels) + ratio
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows),
-                             squeeze=False, constrained_layout=True)
+    fig, axes = _figure(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows), squeeze=False)
     for r, field in enumerate(fields):
         name, unit, scale = DISPLAY[field]
         data = [maps[lab].field(field) * scale for lab in labels]
-        levels, norm = _levels(data, field)
-        linear = field == "restitution" or field in LINEAR
+        levels, norm, constant = _levels(data, field)
         filled = None
         for c, lab in enumerate(labels):
             ax = axes[r][c]
-            m = maps[lab]
-            V, Y = np.meshgrid(m.velocity, _rows(m)[0])
-            z = data[c] if linear else np.where(data[c] > 0, data[c], np.nan)
-            if levels is not None and np.isfinite(z).any():
-                filled = ax.contourf(V, Y, z, levels=levels, norm=norm, cmap="viridis",
-                                     extend="both")
-            yielded = m.yielded.astype(float)
-            if 0 < yielded.mean() < 1:
-                ax.contour(V, Y, yielded, levels=[0.5], colors="w", linestyles="--",
-                           linewidths=1.0)
-            _hatch_out_of_range(ax, V, Y, m)
-            _style_axes(ax, m, r == 0, r == rows - 1, c == 0, lab)
+            filled = _fill(ax, maps[lab], data[c], field, levels, norm) or filled
+            _style_axes(ax, maps[lab], r == 0, r == rows - 1, c == 0, lab)
         if filled is not None:
-            _colorbar(fig, filled, list(axes[r][:len(labels)]), f"{name} ({unit})", norm)
+            _colorbar(fig, filled, list(axes[r][:len(labels)]), f"{name} ({unit})", norm,
+                      constant)
         if ratio:
             ax = axes[r][-1]
             V, Y = np.meshgrid(first.velocity, _rows(first)[0])
@@ -191,7 +236,9 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
                                        norm=rnorm, cmap="RdBu_r")
                 _colorbar(fig, filled_q, ax, f"{'difference' if difference else 'ratio'} of "
                           f"{name}" + (f" ({unit})" if difference else ""), rnorm)
-            _hatch_out_of_range(ax, V, Y, first)
+            # the comparison holds where both maps do: hatched where either is out of range
+            _hatch_out_of_range(ax, V, Y, np.logical_or.reduce(
+                [maps[lab].out_of_range for lab in labels]))
             _style_axes(ax, first, r == 0, r == rows - 1, False,
                         f"{labels[0]} {'-' if difference else '/'} {labels[1]}")
     if title:
@@ -199,18 +246,19 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path, fields=None
                  if _angle_rows(first) else "blank residual depth: no crater")
         fig.suptitle(f"{title}\ndashed: first yield; hatched: {first.range_limit} "
                      f"(not computed); {blank}")
-    return _save(fig, path)
+    return _done(fig, path)
 
 
-def _hatch_out_of_range(ax, V, Y, m: ImpactMap | CylinderMap):
-    out = m.out_of_range.astype(float)
+def _hatch_out_of_range(ax, V, Y, out_of_range: np.ndarray):
+    out = out_of_range.astype(float)
     if out.any():
         ax.contourf(V, Y, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
 
 
-def plot_history(history: ImpactHistory | CylinderImpactHistory, path, title: str = "") -> Path:
+def plot_history(history: ImpactHistory | CylinderImpactHistory, path=None,
+                 title: str = "") -> Figure:
     """Force against approach, and approach and force against time, of one impact of a
-    sphere or a cylinder."""
+    sphere or a cylinder; the Figure, also saved to ``path`` when given."""
     res = history.result
     if isinstance(history, CylinderImpactHistory):
         # a line contact's approach is measured from the datum depth d
@@ -218,7 +266,7 @@ def plot_history(history: ImpactHistory | CylinderImpactHistory, path, title: st
         what = f"cylinder L = {res.length * 1e3:.3g} mm"
     else:
         approach, what = "approach δ (nm)", res.contact_law
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    fig, (ax1, ax2) = _figure(1, 2, figsize=(10, 4))
     contact = history.phase > 0
     t_us = history.time[contact] * 1e6
     d_nm = history.delta[contact] * 1e9
@@ -237,16 +285,17 @@ def plot_history(history: ImpactHistory | CylinderImpactHistory, path, title: st
     ax3.set_ylabel("force P (mN)", color="C3")
     fig.suptitle(title or f"{what}: V = {res.velocity:.3g} m/s, "
                  f"R = {res.radius * 1e6:.3g} µm, e_y = {res.restitution:.4f}")
-    return _save(fig, path)
+    return _done(fig, path)
 
 
-def plot_curve_analysis(curve, result, path, title: str = "") -> Path:
+def plot_curve_analysis(curve, result, path=None, title: str = "") -> Figure:
     """One indentation curve with its Oliver-Pharr fits: the unloading power law over its
-    window, the tangent of slope S at h_max, and h_c, h_f marked."""
+    window, the tangent of slope S at h_max, and h_c, h_f marked; the Figure, also saved to
+    ``path`` when given."""
     from filmscale.continuum.indentation.curves import SEGMENT_NAMES
 
     c = curve.finite()
-    fig, ax = plt.subplots(figsize=(5.6, 4.2))
+    fig, ax = _figure(figsize=(5.6, 4.2))
     colours = ("tab:blue", "tab:gray", "tab:green")
     for label, start, stop in c.runs():
         ax.plot(c.h[start:stop] * 1e9, c.P[start:stop] * 1e3, ".", ms=2.5, color=colours[label],
@@ -275,16 +324,16 @@ def plot_curve_analysis(curve, result, path, title: str = "") -> Path:
     ax.set_ylim(bottom=min(0.0, float(np.min(c.P)) * 1e3))
     ax.legend(fontsize=7, loc="lower right")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    return _save(fig, path)
+    return _done(fig, path)
 
 
-def plot_property_profile(profile, path, nix_gao=None, fit=None, indenter_compliance=0.0,
-                          title: str = "") -> Path:
+def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
+                          indenter_compliance=0.0, title: str = "") -> Figure:
     """E_r and H against contact depth: every indent, group means with their standard
     deviation, layer bands, the piecewise fit (a `TableProfile`, E_r recomputed with the
-    indenter compliance, 1/Pa) and the Nix-Gao curve when given."""
-    fig, axes = plt.subplots(1, 2, figsize=(9.5, 4.0), sharex=True)
+    indenter compliance, 1/Pa) and the Nix-Gao curve when given; the Figure, also saved to
+    ``path`` when given."""
+    fig, axes = _figure(1, 2, figsize=(9.5, 4.0), sharex=True)
     edges = [0.0, *profile.interfaces, float(np.max(profile.h_c)) * 1.05]
     for ax, key, name in ((axes[0], "E_r", "reduced modulus E_r (GPa)"),
                           (axes[1], "H", "hardness H (GPa)")):
@@ -313,5 +362,4 @@ def plot_property_profile(profile, path, nix_gao=None, fit=None, indenter_compli
                            f"h* = {nix_gao.h_star * 1e9:.3g} nm")
     axes[1].legend(fontsize=7)
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    return _save(fig, path)
+    return _done(fig, path)

@@ -19,16 +19,16 @@ from filmscale.continuum.calibration.result import CrossCheck, pop_in_bottom
 from filmscale.continuum.contact.results import ImpactMaxima
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
+from filmscale.continuum.contact.impact_map import ImpactMap
 from filmscale.core.quantities import eng
-from filmscale.workflows.result import RESULT_FORMAT
+from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS, read_map_group
 
-from .plots import plt
+from .plots import _figure, draw_map_field, save_figure
 
 
 def _png(fig) -> str:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100)
-    plt.close(fig)
     return f'<img src="data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}">'
 
 
@@ -39,7 +39,7 @@ def check_result(result) -> Path:
     if not result.is_file():
         raise InputError(f"result {result} does not exist" if not result.exists() else
                          f"result {result} is a folder, not a file")
-    if hdf5_format(result) != RESULT_FORMAT:
+    if hdf5_format(result) not in RESULT_FORMATS:
         raise InputError(f"{result} is {describe(result)}; report expects a scene result "
                          f"(format {RESULT_FORMAT}, the RESULT.h5 of filmscale run)")
     return result
@@ -69,8 +69,13 @@ def _draw_calibration(ax, group, title: str):
     curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
     depths = [float(group[k]["h"][()].max()) for k in curves]
     excluded = any(c.excluded == "pop-in" for c in _checks(group))
+    largest = max(float(np.nanmax(group[k]["P"][()])) for k in curves) if curves else 1.0
+    # the load unit that keeps the axis at 1-1000 (MD curves nN, instruments uN to mN)
+    unit, factor = next(((u, f) for u, f in (("nN", 1e9), ("µN", 1e6), ("mN", 1e3))
+                         if largest * f < 1e3), ("N", 1.0))
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
+        P, F = P * factor / 1e9, F * factor / 1e9
         color = f"C{i % 10}"
         bottom = pop_in_bottom(h, P) if excluded else None
         if bottom is not None:
@@ -85,7 +90,7 @@ def _draw_calibration(ax, group, title: str):
         ax.set_xscale("log")
         ax.set_yscale("log")
     ax.set_xlabel("depth h (nm)")
-    ax.set_ylabel("load P (nN)")
+    ax.set_ylabel(f"load P ({unit})")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, loc="lower right")
 
@@ -122,14 +127,9 @@ MAP_PANELS = (("delta_max", "maximum approach (nm)", 1e9),
               ("residual_depth", "residual depth (nm)", 1e9))
 
 
-def _draw_map(fig, ax, group, key, label, scale):
-    c = ax.contourf(group["velocity"][()], group["radius"][()] * 1e6, group[key][()] * scale,
-                    levels=20, cmap="viridis")
-    fig.colorbar(c, ax=ax, label=label)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("impact velocity V (m/s)")
-    ax.set_ylabel("sphere radius R (um)")
+def result_map(group) -> ImpactMap:
+    """The impact map of a scene result's impact/map group (either layout: /2 or /3)."""
+    return ImpactMap.from_arrays(read_map_group(group))
 
 
 def _draw_band(ax, impact, key, label, scale):
@@ -139,7 +139,9 @@ def _draw_band(ax, impact, key, label, scale):
     i = int(np.argmin(np.abs(np.log(R / float(impact["point/radius"][()])))))
     value = impact[f"map/{key}"][()][i] * scale
     std = impact[f"map_std/{key}"][()][i] * scale
-    ax.fill_between(V, value - 2 * std, value + 2 * std, alpha=0.3,
+    # a linearised band must not promise a rebound faster than the impact
+    high = np.minimum(value + 2 * std, 1.0) if key == "restitution" else value + 2 * std
+    ax.fill_between(V, value - 2 * std, high, alpha=0.3,
                     label="+- 2 std (calibration)")
     ax.plot(V, value, label=f"R = {R[i] * 1e6:.3g} um")
     ax.set_xscale("log")
@@ -152,58 +154,83 @@ def _draw_band(ax, impact, key, label, scale):
 
 
 def _panel(draw, *args, size=(5, 3.6)) -> str:
-    fig, ax = plt.subplots(figsize=size, constrained_layout=True)
+    fig, ax = _figure(figsize=size)
     draw(ax, *args)
     return _png(fig)
 
 
-def _map_figure(group) -> str:
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
-    for ax, panel in zip(axes, MAP_PANELS):
-        _draw_map(fig, ax, group, *panel)
+def bound_note(calibration_group) -> str:
+    """What the impact results rest on when a calibrated sigma_y is only a lower bound (the
+    curves never passed first yield): the maps are computed at the bound, not bounds
+    themselves (with some laws, e.g. Jackson-Green, e_y is not monotonic in sigma_y)."""
+    bounded = [(c["layer"], c["sigma_y"]["value"]) for c in
+               (json.loads(g.attrs["calibration"]) for g in calibration_group.values())
+               if c["sigma_y"].get("lower_bound")]
+    return "; ".join(f"computed with {layer}'s sigma_y at its lower bound (>= {value / 1e9:.3g} "
+                     "GPa)" for layer, value in bounded)
+
+
+def _map_figure(group, note: str = "") -> str:
+    fig, axes = _figure(1, 3, figsize=(13, 3.6))
+    m = result_map(group)
+    for ax, (key, label, _) in zip(axes, MAP_PANELS):
+        draw_map_field(fig, ax, m, key, label=label)
+    if note:
+        fig.suptitle(note, fontsize=9)
     return _png(fig)
 
 
 def _band_figure(impact) -> str:
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
+    fig, axes = _figure(1, 2, figsize=(10, 3.6))
     for ax, panel in zip(axes, MAP_PANELS[:2]):
         _draw_band(ax, impact, *panel)
     return _png(fig)
 
 
-def write_figure(result, out) -> Path:
-    """One PNG summary of a scene result: the first calibrated layer's curves with the
+def scene_figure(result):
+    """One Figure summing up a scene result: the first calibrated layer's curves with the
     calibrated forward model, the depth profile, and the map's maximum approach and
     restitution (when there is a map), with their +- 2 std bands at the scene's radius (when
     the calibrations give standard deviations)."""
-    result, out = Path(result), Path(out)
-    with _result_file(result) as f:
+    with _result_file(Path(result)) as f:
         has_map = "map" in f["impact"]
         bands = has_map and "map_std" in f["impact"]
-        fig, axes = plt.subplots(1 + bands, 4 if has_map else 2,
-                                 figsize=(17 if has_map else 9, 3.8 * (1 + bands)),
-                                 constrained_layout=True, squeeze=False)
+        fig, axes = _figure(1 + bands, 4 if has_map else 2, squeeze=False,
+                            figsize=(17 if has_map else 9, 3.8 * (1 + bands)))
         for key in list(f["calibration"])[:1]:
             g = f["calibration"][key]
             rms = ", ".join(f"{c.rms:.0%} rms" + (f" after the {c.excluded}" if c.excluded
                                                    else "")
                             + f", check {'passed' if c.passed else 'failed'}"
                             for c in _checks(g))
+            cal = json.loads(g.attrs["calibration"])
             _draw_calibration(axes[0, 0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} "
-                              f"GPa, sigma_y {g.attrs['sigma_y'] / 1e9:.2g} GPa\n({rms})")
+                              f"GPa, sigma_y {_bounded(cal['sigma_y'], 1e-9, '.2g')} GPa"
+                              f"\n({rms})")
         _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
-            for ax, panel in zip(axes[0, 2:], MAP_PANELS[:2]):
-                _draw_map(fig, ax, f["impact/map"], *panel)
+            m = result_map(f["impact/map"])
+            note = bound_note(f["calibration"])
+            for ax, (key, label, _) in zip(axes[0, 2:], MAP_PANELS[:2]):
+                draw_map_field(fig, ax, m, key, label=label)
+                ax.set_title(note.replace(" (>=", "\n(>="), fontsize=8)
         if bands:
             for ax, panel in zip(axes[1, :2], MAP_PANELS[:2]):
                 _draw_band(ax, f["impact"], *panel)
             for ax in axes[1, 2:]:
                 ax.axis("off")
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, format="png", dpi=90)
-    plt.close(fig)
-    return out
+    return fig
+
+
+def write_figure(result, out) -> Path:
+    """`scene_figure` of a scene result, saved as PNG to ``out``."""
+    return save_figure(scene_figure(result), out)
+
+
+def _bounded(parameter: dict, scale: float = 1.0, fmt: str = ".4g") -> str:
+    """A calibrated value for people: ">= value" when the data bound it only from below."""
+    text = f"{parameter['value'] * scale:{fmt}}"
+    return f">= {text}" if parameter.get("lower_bound") else text
 
 
 def _number(value, fmt: str, unit: str = "") -> str:
@@ -257,7 +284,8 @@ def write_report(result, out=None) -> Path:
         for key in f["calibration"]:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
-            rows = [(name, _quantity(cal[name]["value"], cal[name]["unit"], cal[name]["std"]),
+            rows = [(name, (">= " if cal[name].get("lower_bound") else "") +
+                     _quantity(cal[name]["value"], cal[name]["unit"], cal[name]["std"]),
                      "yes" if cal[name]["identified"] else f"no: {cal[name]['reason']}")
                     for name in ("E", "sigma_y", "n", "h_star") if cal.get(name)]
             parts += [f"<h3>{html.escape(cal['layer'])}</h3>",
@@ -286,7 +314,9 @@ def write_report(result, out=None) -> Path:
         parts.append(_table([(k, _quantity(float(point[k][()]), units.get(k, "")))
                              for k in sorted(point)], ("quantity", "value")))
         if "map" in f["impact"]:
-            parts.append(_map_figure(f["impact/map"]))
+            note = bound_note(f["calibration"])
+            parts += [f"<p>Map {html.escape(note)}.</p>" if note else "",
+                      _map_figure(f["impact/map"], note)]
         if "map_std" in f["impact"]:
             parts += ["<p>Bands: +- 2 standard deviations of the impact results from the "
                       "calibrated parameters' standard deviations (linearised, parameters "

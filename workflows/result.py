@@ -11,9 +11,8 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
-from filmscale.continuum.contact.impact import ImpactMaxima
-from filmscale.continuum.contact.impact_map import CYLINDER_UNITS, CylinderMap, ImpactMap
-from filmscale.continuum.contact.oblique import OBLIQUE_FIELDS
+from filmscale.continuum.contact.impact_map import (CylinderMap, ImpactMap, map_units,
+                                                   row_dimension)
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5
@@ -25,8 +24,11 @@ if TYPE_CHECKING:       # annotations only: an impact map is written without the
     from filmscale.workflows.plan import Plan
     from filmscale.workflows.scene import PipelineScene, Scene
 
-#: /2: ``cross_check`` of a calibrated layer is a list (one check per source)
-RESULT_FORMAT = "filmscale.scene_result/2"
+#: /2: ``cross_check`` of a calibrated layer is a list (one check per source); /3: impact/map
+#: and impact/map_std in the one map layout (`write_map_group`)
+RESULT_FORMAT = "filmscale.scene_result/3"
+#: the formats `filmscale report` reads: /2 differs only in its maps' lack of dimension scales
+RESULT_FORMATS = ("filmscale.scene_result/2", RESULT_FORMAT)
 
 
 def profile_table(scene: Scene, R: float, points: int = 80) -> dict[str, np.ndarray]:
@@ -82,62 +84,126 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
             p.create_dataset(name, data=prof[name]).attrs["units"] = unit
         i = f.create_group("impact")
         with np.load(impact_path / "impact.npz") as d:
-            for key in d.files:
-                i.create_dataset(key.replace("__", "/"), data=d[key])
+            arrays = {key.replace("__", "/"): d[key] for key in d.files}
+        groups = {}
+        for key, value in arrays.items():
+            group, name = key.split("/", 1)
+            groups.setdefault(group, {})[name] = value
+        for group, values in groups.items():
+            if group in ("map", "map_std"):     # maps: the one layout, std on the map's axes
+                axes = {k: v for k, v in groups["map"].items() if k in MAP_COORDINATES}
+                write_map_group(i.create_group(group), {**values, **axes})
+            else:
+                for name, value in values.items():
+                    i.create_dataset(f"{group}/{name}", data=value)
     return out
 
 
 
-IMPACT_MAP_FORMAT = "filmscale.impact_map/1"
+#: /2: each target's group holds its own axes as dimension scales (`write_map_group`)
+IMPACT_MAP_FORMAT = "filmscale.impact_map/2"
+#: the layout of /1: shared /velocity and /radius at the root, no dimension scales
+IMPACT_MAP_FORMAT_1 = "filmscale.impact_map/1"
+#: arrays of a map group that are coordinates, not results
+MAP_COORDINATES = ("velocity", "radius", "angle", "mass")
+
+
+def write_map_group(g: h5py.Group, arrays: dict, attrs: dict | None = None) -> h5py.Group:
+    """One impact map into ``g``: the layout of every map filmscale writes (the groups of an
+    impact-map file, a scene result's impact/map and impact/map_std). ``arrays`` is a map's
+    ``to_dict`` (axes, mass, (rows, V) results). The row quantity (`row_dimension`: radius,
+    or the angle of an oblique map over angles) and velocity are HDF5 dimension scales that
+    every result is attached to, netCDF-4 style, so ``xarray.open_dataset(path,
+    engine="h5netcdf", group=...)`` names its coordinates; the other row quantity and the
+    mass are coordinates too. Every dataset has a ``units`` attribute (SI, angles in
+    degrees); booleans are stored as int8 marked ``dtype = "bool"`` (xarray's convention)."""
+    units = map_units()
+    row = row_dimension(arrays)
+    scales = {}
+    for name in ("velocity", row):
+        ds = g.create_dataset(name, data=np.asarray(arrays[name], dtype=float))
+        ds.attrs["units"] = units[name]
+        ds.make_scale(name)
+        scales[name] = ds
+    others = [n for n in ("radius", "angle") if n in arrays and n != row]
+    for name in others:
+        ds = g.create_dataset(name, data=np.asarray(arrays[name], dtype=float))
+        ds.attrs["units"] = units[name]
+        ds.dims[0].attach_scale(scales[row])
+    g.create_dataset("mass", data=float(arrays["mass"])).attrs["units"] = "kg"
+    coordinates = " ".join([*others, "mass"])
+    for key, values in arrays.items():
+        if key in MAP_COORDINATES:
+            continue
+        values = np.asarray(values)
+        flag = values.dtype == bool
+        ds = g.create_dataset(key, data=values.astype(np.int8) if flag else values,
+                              compression="gzip")
+        ds.attrs["units"] = units.get(key, "1")
+        ds.attrs["coordinates"] = coordinates
+        if flag:
+            ds.attrs["dtype"] = "bool"
+        ds.dims[0].attach_scale(scales[row])
+        ds.dims[1].attach_scale(scales["velocity"])
+    for key, value in (attrs or {}).items():
+        g.attrs[key] = value
+    return g
+
+
+def read_map_group(g: h5py.Group) -> dict[str, np.ndarray]:
+    """The arrays of a group written by `write_map_group` (``to_dict`` form, booleans
+    restored)."""
+    out = {}
+    for key, ds in g.items():
+        if isinstance(ds, h5py.Dataset):
+            value = ds[()]
+            out[key] = value.astype(bool) if ds.attrs.get("dtype") == "bool" else value
+    return out
 
 
 def write_impact_maps(path, maps: dict[str, ImpactMap | CylinderMap], models: dict[str, dict],
                       provenance: dict[str, str], scene_text: str = "") -> Path:
-    """One file holding impact maps of one impactor shape on shared axes: /velocity,
-    /radius, one group per label (e.g. "layered", "homogeneous") with a dataset per result
-    field, and the scene text; the root attribute ``shape`` says "sphere" or "cylinder"."""
+    """One file holding impact maps of one impactor shape: one `write_map_group` per label
+    (e.g. "layered", "homogeneous") with the model as JSON in its ``model`` attribute, and
+    the scene text; the root attribute ``shape`` says "sphere" or "cylinder", ``mass`` (kg)
+    and, for cylinders, ``length`` (m) are root attributes too."""
     labels = list(maps)
     first = maps[labels[0]]
-    units = {**ImpactMaxima.UNITS, **OBLIQUE_FIELDS, **CYLINDER_UNITS, "angle": "degrees"}
     with atomic_h5(path) as f:
         f.attrs["format"] = IMPACT_MAP_FORMAT
         f.attrs["shape"] = first.shape
         for key, value in provenance.items():
             f.attrs[key] = value
         f.create_dataset("scene", data=scene_text)
-        for name in ("velocity", "radius"):
-            f.create_dataset(name, data=getattr(first, name)).attrs["units"] = (
-                ImpactMaxima.UNITS[name])
         f.attrs["mass"] = first.mass
         f.attrs["mass_units"] = "kg"
         if isinstance(first, CylinderMap):
             f.attrs["length"], f.attrs["length_units"] = first.length, "m"
         for label in labels:
-            g = f.create_group(label)
-            fields = maps[label].to_dict()
-            for key, values in fields.items():
-                if key in ("velocity", "radius", "mass"):
-                    continue
-                ds = g.create_dataset(key, data=np.asarray(values), compression="gzip")
-                ds.attrs["units"] = units.get(key, "1")
-            g.attrs["regime_names"] = dumps(list(maps[label].regime_names))
-            g.attrs["status_codes"] = dumps(maps[label].status_messages)
-            g.attrs["model"] = dumps(models.get(label, {}))
+            m = maps[label]
+            write_map_group(f.create_group(label), m.to_dict(),
+                            {"regime_names": dumps(list(m.regime_names)),
+                             "status_codes": dumps(m.status_messages),
+                             "model": dumps(models.get(label, {})),
+                             "shape": m.shape})
     return Path(path)
 
 
 def read_impact_maps(path) -> tuple[dict[str, dict[str, np.ndarray]], dict]:
-    """(fields by label, root attributes) of a file written by `write_impact_maps`."""
+    """(fields by label, root attributes) of a file written by `write_impact_maps`, of this
+    layout or of the first (``filmscale.impact_map/1``: shared root axes)."""
     try:
         with h5py.File(path, "r") as f:
-            if f.attrs.get("format") != IMPACT_MAP_FORMAT:
+            fmt = f.attrs.get("format")
+            if fmt not in (IMPACT_MAP_FORMAT, IMPACT_MAP_FORMAT_1):
                 raise InputError(f"{path} is not a filmscale impact-map file")
             attrs = dict(f.attrs)
-            axes = {name: f[name][()] for name in ("velocity", "radius")}
+            axes = ({name: f[name][()] for name in ("velocity", "radius")}
+                    | {"mass": f.attrs["mass"]} if fmt == IMPACT_MAP_FORMAT_1 else {})
             out = {}
             for label, g in f.items():
                 if isinstance(g, h5py.Group):
-                    out[label] = {k: g[k][()] for k in g} | axes
+                    out[label] = read_map_group(g) | axes
                     out[label]["regime_names"] = json.loads(g.attrs["regime_names"])
                     out[label]["model"] = json.loads(g.attrs["model"])
             attrs["scene"] = f["scene"][()].decode() if "scene" in f else ""

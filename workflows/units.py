@@ -177,9 +177,10 @@ def run_md(spec, path: Path, ranks: int):
     the slab's surface orientation): the substrate for the film's calibration, the film's
     for the check of the calibrated E against the potential."""
     from filmscale.continuum.elasticity import indentation_modulus
+    from filmscale.md.analysis import analyze_indentation
     from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
-    from filmscale.md.record import run_provenance
+    from filmscale.md.record import RECORD_NAME, run_provenance, write_record
     from filmscale.md.run import run_indentation
     from filmscale.md.structures import surface_normal
     bar, progress = _progress_bar(spec.protocol.schedule().s_end, f"{path.name} (MD)")
@@ -194,6 +195,9 @@ def run_md(spec, path: Path, ranks: int):
     constants = {key: elastic_constants(spec.potential, layer.crystal,
                                         run_dir=path / f"elastic-{key}")
                  for key, layer in layers.items()}
+    # the record `filmscale md indent` writes: the unit's curve, analysis and provenance
+    write_record(run, analyze_indentation(run, constants["top"]), constants["top"],
+                 path / RECORD_NAME)
     normal = surface_normal(spec.slab.orientation)
     record["potential_elastic"] = {
         key: {"element": layers[key].crystal.element, "E": c.average.E, "nu": c.average.nu,
@@ -239,10 +243,14 @@ def run_unit(src: CalibrationSource, spec, store: Path, wait: bool = True
             return path, True
         say(f"{kind} {spec.name} for {src.name} in {path}")
         curve, record = runner(spec, path, src.np)
-        with atomic_path(path / "curve.npz") as tmp:
-            with open(tmp, "wb") as f:
-                np.savez(f, h=curve.h, P=curve.P, segment=curve.segment)
-        finish_unit(path, {"indenter": curve.indenter.spec, **record}, ("curve.npz",))
+        if src.kind == "md":            # the curve is in the record run_md wrote
+            files = (MD_RECORD,)
+        else:
+            files = (CURVE_ARRAYS,)
+            with atomic_path(path / CURVE_ARRAYS) as tmp:
+                with open(tmp, "wb") as f:
+                    np.savez(f, h=curve.h, P=curve.P, segment=curve.segment)
+        finish_unit(path, {"indenter": curve.indenter.spec, **record}, files)
     return path, False
 
 
@@ -274,13 +282,25 @@ def source_units(src: CalibrationSource, base: Path, store: Path
     return units, [unit_curve(path) for path, _ in units]
 
 
+#: the file of a run unit that holds its curve: an MD unit's record (as `filmscale md
+#: indent` writes it), a particle unit's arrays; MD units stored before the record was kept
+#: hold CURVE_ARRAYS too and are still read
+MD_RECORD, CURVE_ARRAYS = "indent.h5", "curve.npz"
+
+
 def unit_curve(path: Path):
-    """The curve of a finished MD or particle unit."""
+    """The curve of a finished MD or particle unit (h, P and segments, as calibrated)."""
     from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-    d = np.load(path / "curve.npz")
     meta = done_record(path)
-    return LoadDisplacementCurve(d["h"], d["P"], segment=d["segment"],
-                                 indenter=meta["indenter"], meta={"source": str(path)})
+    if (path / CURVE_ARRAYS).is_file():
+        with np.load(path / CURVE_ARRAYS) as d:
+            h, P, segment = d["h"], d["P"], d["segment"]
+    else:
+        from filmscale.md.record import read_record_curve
+        c = read_record_curve(path / MD_RECORD)
+        h, P, segment = c.h, c.P, c.segment
+    return LoadDisplacementCurve(h, P, segment=segment, indenter=meta["indenter"],
+                                 meta={"source": str(path)})
 
 
 def _file_digest(path: Path) -> str:

@@ -42,6 +42,8 @@ class Parameter:
     unit: str
     identified: bool
     reason: str = ""      #: why not identified, or how the value was fixed
+    #: the data bound the value only from below (an elastic curve's sigma_y): shown ">="
+    lower_bound: bool = False
 
     @classmethod
     def from_dict(cls, d: dict) -> Parameter:
@@ -50,7 +52,8 @@ class Parameter:
 
     def text(self) -> str:
         tag = "" if self.identified else f"  [not identified: {self.reason}]"
-        return eng(self.value, self.unit, std=self.std) + tag
+        bound = ">= " if self.lower_bound else ""
+        return bound + eng(self.value, self.unit, std=self.std) + tag
 
 
 @dataclass(frozen=True)

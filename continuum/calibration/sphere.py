@@ -374,7 +374,8 @@ def _lower_bound(data, law, target, E_star) -> Parameter:
                                                                          E_star)[::2])
                 for h, _, r, *_ in data)
     return Parameter(value, math.nan, "Pa", False,
-                     "no curve passes first yield beyond noise; the value is a lower bound")
+                     "no curve passes first yield beyond noise; the value is a lower bound",
+                     lower_bound=True)
 
 
 def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:

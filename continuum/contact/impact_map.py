@@ -2,7 +2,9 @@
 
 Points beyond the model's range (a sphere's approach above R, a cylinder's contact wider than
 min(R, d/5)) are marked (``out_of_range``) and hold NaN instead of stopping the map;
-``field`` returns any result as an (n_R, n_V) array in SI units.
+``field`` returns any result as an (n_R, n_V) array in SI units; ``to_xarray`` and
+``to_dataframe`` give the whole map as a labelled dataset or a long table (xarray and pandas
+are imported only there).
 """
 
 from __future__ import annotations
@@ -39,6 +41,65 @@ CYLINDER_STATUS_MESSAGES = {OK: "ok", EXCEEDS_RADIUS: "the contact half-width wo
                             "computed"}
 
 
+def _oblique_fields() -> dict[str, str]:
+    from .oblique import OBLIQUE_FIELDS     # oblique builds on this module
+    return OBLIQUE_FIELDS
+
+
+def map_units() -> dict[str, str]:
+    """The unit of every array a map's ``to_dict`` may hold (sphere, oblique and cylinder
+    results share names and units); status, regime and flags are "1"."""
+    return {**ImpactMaxima.UNITS, **CYLINDER_UNITS, **_oblique_fields(), "angle": "degrees",
+            "status": "1", "regime": "1", "yielded": "1"}
+
+
+def row_dimension(arrays: dict) -> str:
+    """The quantity a map's rows vary: "angle" for an oblique map over (V, angle), "radius"
+    otherwise (the other one, if present, is repeated along the rows)."""
+    angle = arrays.get("angle")
+    return "angle" if angle is not None and np.ptp(angle) > 0 else "radius"
+
+
+def map_dataset(arrays: dict, attrs: dict | None = None):
+    """An xarray Dataset of a map's arrays (the ``to_dict`` form, or a map read from a file):
+    dimensions (row, "velocity") with the row quantity of `row_dimension`, the other row
+    quantity and the mass as coordinates, every (row, V) array a variable; ``units``
+    attributes from `map_units` (SI, angles in degrees)."""
+    import xarray as xr
+    units = map_units()
+    row = row_dimension(arrays)
+    coords = {"velocity": ("velocity", np.asarray(arrays["velocity"]), {"units": "m/s"}),
+              "mass": ((), float(arrays["mass"]), {"units": "kg"})}
+    for name in ("radius", "angle"):
+        if name in arrays:
+            coords[name] = (row, np.asarray(arrays[name], dtype=float), {"units": units[name]})
+    data = {k: ((row, "velocity"), np.asarray(v), {"units": units.get(k, "1")})
+            for k, v in arrays.items() if k not in coords}
+    return xr.Dataset(data, coords=coords, attrs=attrs or {})
+
+
+class _Tables:
+    """The map as xarray and pandas objects, for notebooks."""
+
+    def to_xarray(self):
+        """A Dataset over (radius or angle, velocity): every result field with its units, the
+        out-of-range points NaN, ``yielded`` boolean; attributes: shape, regime names."""
+        d = self.to_dict()
+        attrs = {"shape": self.shape, "regime_names": list(self.regime_names),
+                 "range_limit": self.range_limit}
+        if isinstance(self, CylinderMap):
+            attrs["length"] = self.length
+        return map_dataset(d, attrs)
+
+    def to_dataframe(self):
+        """A long table: one row per (radius or angle, velocity) point, a column per field,
+        SI units (``df.attrs["units"]`` names them)."""
+        ds = self.to_xarray()
+        df = ds.to_dataframe()
+        df.attrs["units"] = {k: v.attrs.get("units", "1") for k, v in ds.variables.items()}
+        return df
+
+
 def axis(low, high, count, spacing: str = "log", name: str = "axis",
          bounds: tuple[float, float] = (0.0, np.inf), unit: str = "") -> np.ndarray:
     """``count`` values from ``low`` to ``high``, log- or linearly spaced, both within
@@ -58,7 +119,7 @@ def axis(low, high, count, spacing: str = "log", name: str = "axis",
 
 
 @dataclass(frozen=True)
-class ImpactMap:
+class ImpactMap(_Tables):
     """Maxima on the grid ``radius`` (rows) x ``velocity`` (columns).
 
     An oblique map (`continuum.contact.oblique.oblique_map`) adds the incidence angle of each
@@ -96,6 +157,23 @@ class ImpactMap:
         if name in self.tangential:
             return np.asarray(self.tangential[name], dtype=float)
         return np.asarray(getattr(self.maxima, name), dtype=float)
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, regime_names=(), contact_law: str = "") -> ImpactMap:
+        """The map of a ``to_dict`` (as a map file or a scene result holds it)."""
+        V, R = np.asarray(arrays["velocity"]), np.asarray(arrays["radius"])
+        shape = (R.size, V.size)
+        fields = {k: np.asarray(arrays[k]) for k in ImpactMaxima.UNITS
+                  if k not in ("velocity", "radius", "mass")}
+        maxima = ImpactMaxima(
+            velocity=np.broadcast_to(V[None, :], shape), radius=np.broadcast_to(R[:, None], shape),
+            mass=np.full(shape, float(arrays["mass"])), yielded=np.asarray(arrays["yielded"], bool),
+            regime=np.asarray(arrays["regime"]), status=np.asarray(arrays["status"]),
+            regime_names=tuple(regime_names), contact_law=contact_law, unloading="", **fields)
+        tangential = {k: np.asarray(arrays[k]) for k in arrays if k in _oblique_fields()}
+        return cls(velocity=V, radius=R, mass=float(arrays["mass"]), maxima=maxima,
+                   angle=None if "angle" not in arrays else np.asarray(arrays["angle"]),
+                   tangential=tangential)
 
     def to_dict(self) -> dict:
         """Arrays in SI for the store: axes, every result field, status and regime."""
@@ -138,7 +216,7 @@ def impact_map(model: ImpactModel, velocity, radius, mass, progress=None) -> Imp
 
 
 @dataclass(frozen=True)
-class CylinderMap:
+class CylinderMap(_Tables):
     """Cylinder maxima (`CylinderImpactModel.maxima`) on the grid ``radius`` (rows) x
     ``velocity`` (columns), at the model's length."""
 

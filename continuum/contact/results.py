@@ -164,6 +164,18 @@ class ImpactHistory:
     events: dict = field(default_factory=dict)  #: event name -> time, s
     nfev: int = 0               #: contact-force evaluations by the integrator
 
+    #: the unit of each sampled history
+    HISTORY_UNITS = {"time": "s", "delta": "m", "velocity": "m/s", "force": "N",
+                     "contact_radius": "m", "mean_pressure": "Pa", "branch": "1", "phase": "1"}
+
+    def to_dataframe(self):
+        """The sampled histories as a pandas table indexed by time (s), one column per
+        quantity in SI (``df.attrs["units"]``); pandas is imported here."""
+        import pandas as pd
+        df = pd.DataFrame({k: getattr(self, k) for k in self.HISTORY_UNITS}).set_index("time")
+        df.attrs["units"] = dict(self.HISTORY_UNITS)
+        return df
+
 
 
 def exceeds_radius_message(V, R, m) -> str:

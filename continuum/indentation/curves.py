@@ -192,6 +192,30 @@ class LoadDisplacementCurve:
         return replace(self, h=self.h - rate * (self.t - self.t[0]), segment=self.segment,
                        meta=meta)
 
+    def to_dataframe(self):
+        """The curve as a pandas table (pandas imported here): columns h (m), P (N), t (s,
+        when the curve has times) and segment ("load", "hold", "unload"), one row per point;
+        ``df.attrs`` holds the units, the tip and the provenance."""
+        import pandas as pd
+        columns = {"h": self.h, "P": self.P, **({"t": self.t} if self.t is not None else {}),
+                   "segment": pd.Categorical.from_codes(self.segment, SEGMENT_NAMES)}
+        df = pd.DataFrame(columns)
+        df.attrs.update(units={"h": "m", "P": "N", "t": "s"},
+                        indenter=self.indenter.spec if self.indenter else "",
+                        meta=dict(self.meta))
+        return df
+
+    def to_xarray(self):
+        """The curve as an xarray Dataset over its points: h (m) and P (N) with ``units``
+        attributes, t (s) as a coordinate when the curve has times, segment names."""
+        import xarray as xr
+        coords = {"segment": ("point", np.array(SEGMENT_NAMES)[self.segment])}
+        if self.t is not None:
+            coords["t"] = ("point", self.t, {"units": "s"})
+        return xr.Dataset({"h": ("point", self.h, {"units": "m"}),
+                           "P": ("point", self.P, {"units": "N"})}, coords=coords,
+                          attrs={"indenter": self.indenter.spec if self.indenter else ""})
+
     def to_dict(self) -> dict:
         return {"h": self.h.tolist(), "P": self.P.tolist(),
                 "t": None if self.t is None else self.t.tolist(),

@@ -68,6 +68,15 @@ def test_elastic_data_bound_sigma_y_from_below_only():
     assert float(LAW.first_yield(R, E_STAR, cal.sigma_y.value, NU).approach) == \
         pytest.approx(0.8 * delta_y, rel=1e-6)
     assert cal.material().sigma_y == cal.sigma_y.value
+    # people see a bound as a bound: ">=" in the summary, the report's table and figure
+    assert cal.sigma_y.lower_bound and not cal.E.lower_bound
+    assert cal.sigma_y.text().startswith(f">= {cal.sigma_y.value:.4g}")
+    from filmscale.continuum.calibration.result import Calibration
+    from filmscale.workflows.report import _bounded
+    back = Calibration.from_dict(cal.to_dict())
+    assert back.sigma_y.lower_bound
+    assert _bounded(cal.to_dict()["sigma_y"], 1e-9, ".2g") == \
+        f">= {cal.sigma_y.value * 1e-9:.2g}"
 
 
 def synthetic_sharp_curve(E, nu, sy, n, h_m, tip="berkovich", points=200):

@@ -111,7 +111,8 @@ def test_impact_map_writes_si_hdf5_with_provenance_and_a_plot(tmp_path, capsys):
     with h5py.File(out) as f:
         assert f["layered/delta_max"].attrs["units"] == "m"
         assert f["layered/mean_pressure_max"].attrs["units"] == "Pa"
-        assert f["velocity"].attrs["units"] == "m/s" and f["velocity"].shape == (12,)
+        assert f["layered/velocity"].attrs["units"] == "m/s"
+        assert f["layered/velocity"].shape == (12,)
         assert f["layered/delta_max"].shape == (10, 12)
         status = f["layered/status"][()]
         delta = f["layered/delta_max"][()]

@@ -138,7 +138,7 @@ def test_impact_map_of_a_cylinder_scene(tmp_path, capsys):
     assert attrs["length_units"] == "m" and attrs["mass"] == 1e-3
     assert set(fields) == {"layered", "homogeneous"}
     with h5py.File(out_h5) as f:
-        assert f["velocity"].shape == (3,) and f["radius"].shape == (2,)
+        assert f["layered/velocity"].shape == (3,) and f["layered/radius"].shape == (2,)
         for name, unit in {**CYLINDER_UNITS, "status": "1", "regime": "1"}.items():
             assert f["layered"][name].shape == (2, 3), name
             assert f["layered"][name].attrs["units"] == unit, name

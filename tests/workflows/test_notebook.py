@@ -4,7 +4,7 @@
 ``--nbmake`` flag, which must not be switched on for the whole suite (it would make pytest
 collect every ``.ipynb`` under the paths it is given). So this test runs nbmake on each
 notebook in a subprocess of its own and asserts that every cell ran without an error: the
-calibration notebook is documentation that breaks silently when the API it shows changes.
+notebooks are documentation that breaks silently when the API they show changes.
 
 The notebook's code runs in a Jupyter kernel, a process that pytest's ``filterwarnings =
 ["error"]`` does not reach; ``PYTHONWARNINGS`` carries the same rule into the kernel, so a
@@ -21,7 +21,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-NOTEBOOKS = ["examples/calibration.ipynb", "examples/instrument_data.ipynb"]
+#: each runs in well under a minute: calibration from curves; impact maps of a layered disk as
+#: xarray, pandas and a Figure; a scene from curve file to result, report and map (no MD); reading and calibrating instrument data
+NOTEBOOKS = ["examples/calibration.ipynb", "examples/impact_maps.ipynb",
+             "examples/scene_pipeline.ipynb", "examples/instrument_data.ipynb"]
 
 
 @pytest.mark.parametrize("notebook", NOTEBOOKS)

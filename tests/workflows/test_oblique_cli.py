@@ -157,10 +157,11 @@ def test_velocity_angle_map_axes_and_fields():
     assert values.tolist() == [2.0, 10.0, 80.0] and label.startswith("incidence") and not log
     e_c = mp.field("restitution_contact_point")
     assert e_c.min() < 0 < e_c.max()          # reverses at small angles, slides at 80 degrees
-    levels, norm = plots._levels([e_c], "restitution_contact_point")
+    levels, norm, constant = plots._levels([e_c], "restitution_contact_point")
     assert levels[0] == pytest.approx(e_c.min()) and levels[-1] == pytest.approx(e_c.max())
-    levels, _ = plots._levels([np.full((2, 2), 0.7)], "restitution_tangential")
-    assert levels[-1] > levels[0]             # a constant field still gets a colour band
+    assert constant is None
+    levels, _, constant = plots._levels([np.full((2, 2), 0.7)], "restitution_tangential")
+    assert levels[-1] > levels[0] and constant == 0.7     # one colour band, named by its value
 
 
 def test_impact_map_over_velocity_and_radius_at_the_scene_angle(tmp_path, capsys):

@@ -171,6 +171,28 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
         direct = model.maxima(1.0, 1e-6, 1e-12)
         assert a["impact/point/delta_max"][()] == pytest.approx(float(direct.delta_max),
                                                                rel=1e-9)
+        raw_map = a["impact/map/restitution"][()]
+    # for a notebook: the point as a table, the map with named coordinates (units: SI)
+    table = second.to_dataframe()
+    assert table.loc["delta_max", "value"] == pytest.approx(float(direct.delta_max), rel=1e-9)
+    assert table.loc["delta_max", "unit"] == "m"
+    ds = second.to_xarray()
+    assert ds["restitution"].dims == ("radius", "velocity")
+    assert ds["radius"].attrs["units"] == "m" and ds["velocity"].attrs["units"] == "m/s"
+    np.testing.assert_array_equal(ds["restitution"].values, raw_map)
+    np.testing.assert_allclose(ds["velocity"], np.geomspace(0.1, 10.0, 4), rtol=1e-12)
+    assert "delta_max_std" in ds           # the calibration's spread, on the same axes
+    # the MD unit keeps the record `filmscale md indent` writes, and the curve is read from it
+    from filmscale.continuum.indentation.io import read_curves
+    from filmscale.md.record import RECORD_FORMAT
+    from filmscale.workflows.units import unit_curve
+    (md_unit,) = [k for k in second.units if k.startswith("md-indent")]
+    record = store / md_unit / "indent.h5"
+    with h5py.File(record, "r") as f:
+        assert f.attrs["format"] == RECORD_FORMAT and "analysis" in f
+    assert not (store / md_unit / "curve.npz").exists()
+    (recorded,) = read_curves(record).values()
+    np.testing.assert_array_equal(unit_curve(store / md_unit).P, recorded.P)
     report = write_report(out)
     assert "<h2>Plan</h2>" in report.read_text() and "data:image/png" in report.read_text()
     figure = write_figure(out, tmp_path / "summary.png")
@@ -223,6 +245,8 @@ def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, mon
         assert check["passed"] and check["rms"] == pytest.approx(0.01, rel=0.3)
         assert json.loads(f.attrs["plan"])["steps"][0]["name"] == "calibrate film"
     assert "cross-scale check passed" in write_report(result.path).read_text()
+    with pytest.raises(InputError, match="holds no impact map"):     # want has no "map"
+        result.to_xarray()
 
 
 def test_calibration_sources_are_checked_before_any_run(tmp_path):

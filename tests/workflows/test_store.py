@@ -147,3 +147,19 @@ def test_two_runs_of_an_ensemble_share_out_its_seeds(tmp_path):
     assert [err.count("filmscale: md-indent ci-cu001") for _, err in outputs] == [1, 1]
     assert len([p for p in store.glob("md-indent-*") if p.is_dir()]) == 2
     assert _results(tmp_path / "a.h5") == _results(tmp_path / "b.h5")
+
+
+def test_a_run_unit_stored_with_its_curve_as_arrays_still_reads(tmp_path):
+    """Before MD units kept indent.h5 they held curve.npz (particle units still do): such a
+    unit, finished with its checksums, gives back the curve it stored."""
+    from filmscale.workflows.units import finish_unit, unit_curve
+    h = np.linspace(0.0, 2e-9, 7)
+    P = 1e-6 * (h / 2e-9) ** 1.5
+    segment = np.array([0, 0, 0, 0, 1, 2, 2])
+    np.savez(tmp_path / "curve.npz", h=h, P=P, segment=segment)
+    finish_unit(tmp_path, {"indenter": "sphere:2nm"}, ("curve.npz",))
+    curve = unit_curve(tmp_path)
+    np.testing.assert_array_equal(curve.h, h)
+    np.testing.assert_array_equal(curve.P, P)
+    np.testing.assert_array_equal(curve.segment, segment)
+    assert curve.indenter.R == 2e-9 and curve.meta["source"] == str(tmp_path)

@@ -153,7 +153,7 @@ def plastic_impact_sweep(workdir, table):
         "residual m", "P_max N")
     mass = hertz_mass(0.1 * R, 50.0, {"E": 70e9, "nu": 0.3})
     mat = ParticleMaterial(ElasticPlastic(70e9, 0.3, 3e8, name="Al-pp"), 2700.0)
-    for q in (5, 7.5):
+    for q in (5, 7.5, 10, 12.5, 15):
         spec = ParticleImpactSpec(f"plastic-impact-{q}", "tlsph", ParticleTarget(mat),
                                   "sphere:1um", mass, 50.0, Grid(R / q, 2 * R, 2 * R), frames=0)
         out = analyze_impact(run_particles(spec, Path(workdir) / spec.name))

@@ -70,7 +70,7 @@ def test_elastic_data_bound_sigma_y_from_below_only():
     assert cal.material().sigma_y == cal.sigma_y.value
     # people see a bound as a bound: ">=" in the summary, the report's table and figure
     assert cal.sigma_y.lower_bound and not cal.E.lower_bound
-    assert cal.sigma_y.text().startswith(f">= {cal.sigma_y.value:.4g}")
+    assert cal.sigma_y.text().startswith(f">= {cal.sigma_y.value / 1e6:.4g} MPa")
     from filmscale.continuum.calibration.result import Calibration
     from filmscale.workflows.report import _bounded
     back = Calibration.from_dict(cal.to_dict())

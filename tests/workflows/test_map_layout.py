@@ -164,7 +164,7 @@ def test_a_lower_bound_is_shown_as_one_in_the_report_and_the_figure(tmp_path):
     (cal,) = result.calibrations().values()
     assert cal.sigma_y.lower_bound and cal.sigma_y.value <= sy
     html = write_report(result.path).read_text()
-    assert f"<td>&gt;= {cal.sigma_y.value:.4g}</td>" in html
+    assert f"<td>&gt;= {cal.sigma_y.value / 1e9:.4g} GPa</td>" in html     # table: eng units
     assert (f"Map computed with film&#x27;s sigma_y at its lower bound (&gt;= "
             f"{cal.sigma_y.value / 1e9:.3g} GPa)") in html
     titles = [ax.get_title() for ax in scene_figure(result.path).axes]

@@ -80,6 +80,21 @@ def _block_lines(spec, n_types: int, top: float) -> list[str]:
     ]
 
 
+def layer_lines(spec, dx: float) -> list[str]:
+    """Particle types by layer, top first: type k for the lattice planes between the
+    (k-1)-th and k-th interface; bounds half a spacing off the planes, so a film of
+    thickness t gets round(t/dx) planes."""
+    lines = []
+    top = 0.0
+    for k, (t, _) in enumerate(spec.target.films, start=1):
+        bottom = top - from_si(t, "length", "particle")
+        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
+                  f"{_num(top + 0.5 * dx)} units box",
+                  f"set region layer{k} type {k}"]
+        top = bottom
+    return lines
+
+
 def _weight_groups(grid: Grid, member: str) -> list[str]:
     """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a symmetric model the
     particles on one symmetry plane own half a cell, those on the axis (quarter model) a
@@ -517,17 +532,7 @@ def peri_input(spec, version: str = "") -> str:
         *_block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
         f"create_atoms {n_types} region block",
     ]
-    # layers top first: type k for the lattice planes between the (k-1)-th and k-th
-    # interface; bounds half a spacing off the planes, so a film of thickness t gets
-    # round(t/dx) planes
-    top = 0.0
-    for k, (t, _) in enumerate(spec.target.films, start=1):
-        bottom = top - from_si(t, "length", "particle")
-        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
-                  f"{_num(top + 0.5 * dx)} units box",
-                  f"set region layer{k} type {k}"]
-        top = bottom
-    lines += ["group target union all"]
+    lines += [*layer_lines(spec, dx), "group target union all"]
     if impact:
         lines += _impactor_lines(spec, dx, f"create_atoms {n_types} region imp")
         lines += ["group target subtract all imp"]

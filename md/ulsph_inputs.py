@@ -21,7 +21,7 @@ from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.checks import check_choice, check_real
 from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _header,
                                           _indent_driver, _num, _run_lines, _symmetry_lines, _u,
-                                          _weight_groups)
+                                          _weight_groups, layer_lines)
 from filmscale.md.particles import ParticleMaterial
 from filmscale.md.units import from_si
 
@@ -94,16 +94,8 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
         *_block_lines(spec, n_types, 0.0),
         f"create_atoms {n_types} region block",
     ]
-    # layers top first, type k between the (k-1)-th and k-th interface; bounds half a
-    # spacing off the lattice planes, so a film of thickness t gets round(t/dx) planes
-    top = 0.0
-    for k, (t, _) in enumerate(spec.target.films, start=1):
-        bottom = top - from_si(t, "length", "particle")
-        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
-                  f"{_num(top + 0.5 * dx)} units box",
-                  f"set region layer{k} type {k}"]
-        top = bottom
     lines += [
+        *layer_lines(spec, dx),
         "group target union all",
         *_weight_groups(g, "target"),
         f"set group all volume {_num(vol)}",

@@ -124,9 +124,16 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
     ]
 
 
-def _symmetry_lines(grid: Grid) -> list[str]:
-    """Zero normal velocity on the symmetry planes (TLSPH's ``smd/setvel``)."""
-    lines = []
+def smd_boundary_lines(grid: Grid, D: float, dx: float) -> list[str]:
+    """MACHDYN's boundary conditions: the rigid base at depth ``D`` and zero normal velocity
+    on the symmetry planes (``smd/setvel``), particle units."""
+    lines = [
+        "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
+        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        "group base_all region base",
+        "group base intersect base_all target",
+        "fix base base smd/setvel 0 0 0",
+    ]
     if grid.symmetric:
         lines += ["group sym_x intersect on_x target", "fix sym_x sym_x smd/setvel 0 NULL NULL"]
     if grid.quarter:
@@ -340,14 +347,7 @@ def _tlsph_input(spec, version: str) -> str:
            "pair_coeff 1 2 none", "pair_coeff 2 2 none"] if impact else
           ["pair_style smd/tlsph", f"pair_coeff 1 1 {_tlsph_material(mat)}"]),
         "",
-        "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
-        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
-        "group base_all region base",
-        "group base intersect base_all target",
-        "fix base base smd/setvel 0 0 0",
-    ]
-    lines += _symmetry_lines(g)
-    lines += [
+        *smd_boundary_lines(g, D, dx),
         f"fix dtfix all smd/adjust_dt {CFL}",
         "fix integration tlsph smd/integrate_tlsph",
         *(["fix impactor imp nve"] if impact else []),

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.checks import check_choice, check_real
 from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _header,
-                                          _indent_driver, _num, _run_lines, _symmetry_lines, _u,
-                                          _weight_groups, layer_lines)
+                                          _indent_driver, _num, _run_lines, _u, _weight_groups,
+                                          layer_lines, smd_boundary_lines)
 from filmscale.md.particles import ParticleMaterial
 from filmscale.md.units import from_si
 
@@ -119,14 +119,7 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
             lines.append(f"pair_coeff {i} {j} *CROSS")
     lines += [
         "",
-        "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
-        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
-        "group base_all region base",
-        "group base intersect base_all target",
-        "fix base base smd/setvel 0 0 0",
-    ]
-    lines += _symmetry_lines(g)
-    lines += [
+        *smd_boundary_lines(g, D, dx),
         f"fix dtfix all smd/adjust_dt {CFL}",
         "fix integration target smd/integrate_ulsph",
         "variable t equal f_dtfix    # simulated time (the timestep adapts)",

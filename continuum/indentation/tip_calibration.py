@@ -23,7 +23,6 @@ E = 72.0 GPa, nu = 0.17, and tungsten E = 409.8 GPa, nu = 0.28, the values of Ol
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +31,7 @@ from scipy.optimize import minimize_scalar
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.quantities import to_si
 
 from .curves import LoadDisplacementCurve
 from .cycles import cycle_curves
@@ -48,8 +48,6 @@ REFERENCES = {
 FIT_CHOICES = ("frame", "area", "both")
 #: first line of the area files `TipCalibration.area_file_text` writes
 AREA_FILE_HEADER = "# filmscale indent calibrate: tip area function and frame compliance"
-_MODULUS_UNITS = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9}
-_VALUE = re.compile(r"^\s*([-+0-9.eE]+)\s*([A-Za-z]*)\s*$")
 
 
 def parse_reference(text) -> ElasticPlastic:
@@ -66,15 +64,12 @@ def parse_reference(text) -> ElasticPlastic:
         fields[key.strip().lower()] = value.strip() if eq else None
     if set(fields) != {"e", "nu"} or None in fields.values():
         raise InputError(f"reference = {text!r} is not one of {', '.join(REFERENCES)} or "
-                         "E=...,nu=... (E in Pa or with MPa, GPa)")
-    match = _VALUE.match(fields["e"])
-    units = {k.lower(): v for k, v in _MODULUS_UNITS.items()}
-    factor = (units.get(match.group(2).lower()) if match.group(2) else 1.0) if match else None
+                         "E=...,nu=... (E in Pa or with units: 72 GPa)")
+    E = to_si("reference E", fields["e"], "Pa")
     try:
-        E, nu = float(match.group(1)) * factor, float(fields["nu"])
-    except (AttributeError, TypeError, ValueError):
-        raise InputError(f"reference = {text!r}: E must be a modulus (a number in Pa, or "
-                         "with MPa, GPa) and nu a number") from None
+        nu = float(fields["nu"])
+    except ValueError:
+        raise InputError(f"reference = {text!r}: nu must be a number") from None
     E = check_real("reference E", E, low=1e8, high=2e12, unit="Pa")
     return ElasticPlastic(E, nu, name="custom reference")
 

@@ -66,9 +66,10 @@ def rms_error(h, P, reference, h_max):
     return float(np.sqrt(np.mean((P[m] / reference[m] - 1.0)**2)))
 
 
-def indent(name, target, grid, speed, depth=0.1 * R, tip="sphere:1um", workdir=None):
-    spec = ParticleIndentSpec(name, "tlsph", target, tip, IndentLoading(depth, speed, frames=0),
-                              grid)
+def indent(name, target, grid, speed, depth=0.1 * R, tip="sphere:1um", workdir=None,
+           unload=True):
+    spec = ParticleIndentSpec(name, "tlsph", target, tip,
+                              IndentLoading(depth, speed, frames=0, unload=unload), grid)
     return run_particles(spec, Path(workdir) / name)
 
 
@@ -229,9 +230,8 @@ def tips_sweep(workdir, table):
     for tip, model, dx in cases:
         grid = Grid(dx, 1.2e-6, 1.2e-6, quarter=model == "quarter", half=model == "half")
         name = f"tip-{tip.split(':')[0]}-{model}-{dx * 1e9:g}nm"
-        spec = ParticleIndentSpec(name, "tlsph", ParticleTarget(AL), tip,
-                                  IndentLoading(1.2e-7, 60.0, frames=0, unload=False), grid)
-        out = analyze_indent(run_particles(spec, Path(workdir) / name))
+        out = analyze_indent(indent(name, ParticleTarget(AL), grid, 60.0, 1.2e-7, tip, workdir,
+                                    unload=False))
         row(tip, model, f"{dx * 1e6:g}", out.particles, out.steps, f"{out.wall_time:.1f}",
             f"{out.block_ratio:.3f}")
         table.append((f"{tip}, {model}, dx = {dx * 1e6:g} um", out.wall_time,

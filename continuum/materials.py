@@ -60,6 +60,16 @@ class ElasticPlastic:
         return self.E / (1.0 - self.nu**2)
 
     @property
+    def bulk_modulus(self) -> float:
+        """K = E / (3 (1 - 2 nu)), Pa (isotropic elasticity)."""
+        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)), Pa (isotropic elasticity)."""
+        return self.E / (2.0 * (1.0 + self.nu))
+
+    @property
     def compliance(self) -> float:
         """(1 - nu^2) / E, 1/Pa."""
         return (1.0 - self.nu**2) / self.E

@@ -58,6 +58,17 @@ def _clamp_min(a: str, b: str) -> str:
     return f"0.5*(({a})+({b})-abs(({a})-({b})))"
 
 
+def _scales(spec) -> tuple[float, float, float | None, float]:
+    """The spacing dx and block depth D (on the lattice), the sphere radius R (None for other
+    tips) and the largest E* of the target's materials, in particle units."""
+    g = spec.grid
+    dx = from_si(g.spacing, "length", "particle")
+    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
+                 for m in spec.target.materials)
+    return dx, round(g.depth / g.spacing) * dx, R, E_star
+
+
 def _block_lines(spec, n_types: int, top: float) -> list[str]:
     """The lattice, the block region and a box reaching up to ``top`` (particle units):
     the target's surface is z = 0 with a lattice point on the axis."""
@@ -305,10 +316,7 @@ def _tlsph_input(spec, version: str) -> str:
     impact = isinstance(spec, ParticleImpactSpec)
     g = spec.grid
     mat = spec.target.substrate
-    dx = from_si(g.spacing, "length", "particle")
-    D = round(g.depth / g.spacing) * dx
-    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
-    E_star = from_si(spec.target.reduced_modulus(), "pressure", "particle")
+    dx, D, R, E_star = _scales(spec)
     vol = dx**3
     lines = [
         *_header(spec, version),
@@ -498,9 +506,7 @@ def input_text(spec, version: str = "") -> str:
 def _peri_coeff(m: ParticleMaterial, horizon: float) -> str:
     """``K G horizon s00 alpha`` of peri/lps: bulk and shear modulus from E and nu; a critical
     stretch s00 = 1 so that no bond breaks (the model is elastic)."""
-    E, nu = m.material.E, m.material.nu
-    K = E / (3 * (1 - 2 * nu))
-    G = E / (2 * (1 + nu))
+    K, G = m.material.bulk_modulus, m.material.shear_modulus
     return f"{_u(K, 'pressure')} {_u(G, 'pressure')} {_num(horizon)} 1.0 0.0"
 
 
@@ -511,11 +517,7 @@ def peri_input(spec, version: str = "") -> str:
     the particle volume V and its force multiplied by V (docs/lammps.md, particle traps)."""
     impact = isinstance(spec, ParticleImpactSpec)
     g = spec.grid
-    dx = from_si(g.spacing, "length", "particle")
-    D = round(g.depth / g.spacing) * dx
-    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
-    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
-                 for m in spec.target.materials)
+    dx, D, R, E_star = _scales(spec)
     vol = dx**3
     horizon = PERI_HORIZON * dx
     mats = spec.target.materials
@@ -553,8 +555,7 @@ def peri_input(spec, version: str = "") -> str:
         lines.append("pair_style peri/pmb")
         for i in range(1, n_types + 1):
             for j in range(i, n_types + 1):
-                Ki = mats[i - 1].material.E / (3 * (1 - 2 * mats[i - 1].material.nu))
-                Kj = mats[j - 1].material.E / (3 * (1 - 2 * mats[j - 1].material.nu))
+                Ki, Kj = mats[i - 1].material.bulk_modulus, mats[j - 1].material.bulk_modulus
                 K = from_si(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
                 spring = 18 * K / (math.pi * horizon**4)
                 lines.append(f"pair_coeff {i} {j} {_num(spring)} {_num(horizon)} 1.0 0.0")

@@ -17,13 +17,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from filmscale.continuum.indentation.tips import Sphere
 from filmscale.core.checks import check_choice, check_real
 from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _header,
-                                          _indent_driver, _num, _run_lines, _u, _weight_groups,
-                                          layer_lines, smd_boundary_lines)
+                                          _indent_driver, _num, _run_lines, _scales, _u,
+                                          _weight_groups, layer_lines, smd_boundary_lines)
 from filmscale.md.particles import ParticleMaterial
-from filmscale.md.units import from_si
 
 
 @dataclass(frozen=True)
@@ -55,8 +53,7 @@ def ulsph_material(m: ParticleMaterial, settings: UlsphSettings = ULSPH_SETTINGS
     sound speed c0 = sqrt(K/rho0) (ULSPH's linear EOS takes K = rho0 c0^2), then
     ``*EOS_LINEAR`` and ``*STRENGTH_LINEAR G`` or ``*STRENGTH_LINEAR_PLASTIC G sigma_y 0``."""
     mat = m.material
-    K = mat.E / (3 * (1 - 2 * mat.nu))
-    G = mat.E / (2 * (1 + mat.nu))
+    K, G = mat.bulk_modulus, mat.shear_modulus
     c0 = math.sqrt(K / m.density)
     # heat capacity Cp is only used by thermal models (none here): 1
     common = (f"*COMMON {_u(m.density, 'density')} {_u(c0, 'velocity')} {_num(settings.q1)} "
@@ -72,11 +69,7 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
     """The complete LAMMPS input of a ULSPH indentation of ``spec`` (a `ParticleIndentSpec`
     of method ``ulsph``), homogeneous or layered, elastic or elastic-plastic."""
     g = spec.grid
-    dx = from_si(g.spacing, "length", "particle")
-    D = round(g.depth / g.spacing) * dx
-    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
-    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
-                 for m in spec.target.materials)
+    dx, D, R, E_star = _scales(spec)
     vol = dx**3
     mats = spec.target.materials
     n_types = len(mats)

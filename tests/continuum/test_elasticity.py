@@ -6,7 +6,7 @@ import pytest
 from filmscale.continuum.elasticity import (IsotropicAverage, cubic_stiffness, hexagonal_stiffness,
                                             indentation_modulus, stiffness_from_stress_strain,
                                             voigt_reuss_hill, zener_ratio)
-from filmscale.continuum.materials import DIAMOND, reduced_modulus
+from filmscale.continuum.materials import DIAMOND, ElasticPlastic, reduced_modulus
 from filmscale.core.errors import InputError
 
 GPa = 1e9
@@ -31,6 +31,10 @@ def test_isotropic_stiffness_returns_its_own_moduli(E, nu):
         assert got == pytest.approx(want, rel=1e-12)
     assert avg.nu == pytest.approx(nu, rel=1e-12)
     assert avg.A_U == pytest.approx(0.0, abs=1e-12)
+    # the material's own K and G agree with those read off its stiffness tensor
+    mat = ElasticPlastic(E, nu)
+    assert mat.bulk_modulus == pytest.approx(avg.K_V, rel=1e-12)
+    assert mat.shear_modulus == pytest.approx(avg.G_V, rel=1e-12)
     assert zener_ratio(_isotropic(E, nu)) == pytest.approx(1.0, rel=1e-12)
 
 

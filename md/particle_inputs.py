@@ -18,9 +18,9 @@ import math
 
 from filmscale.continuum.indentation.tips import Cone, Sphere, SphericalCone
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.md.particles import (PERI_HORIZON, PYRAMID_FACE_ANGLES, Grid,
-                                    ParticleImpactSpec, ParticleIndentSpec, ParticleMaterial,
-                                    contact_radius, is_pyramid)
+from filmscale.md.particles import (PERI_HORIZON, PYRAMID_FACE_ANGLES, Grid, ParticleImpactSpec,
+                                    ParticleIndentSpec, ParticleMaterial, contact_radius,
+                                    is_pyramid)
 from filmscale.md.units import from_si
 
 #: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.
@@ -132,6 +132,23 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
         f"group plane_m intersect plane_all {member}",
         "group plane subtract plane_m axis",
         f"group interior subtract {member} plane axis",
+    ]
+
+
+def smd_preamble(spec, version: str, dx: float) -> list[str]:
+    """The first lines of a MACHDYN (TLSPH or ULSPH) input: SI units, shrink-wrapped
+    boundaries (periodic ones delete particles or blow up), atom style ``smd``."""
+    return [
+        *_header(spec, version),
+        "units si",
+        "dimension 3",
+        "boundary s s s",
+        "atom_style smd",
+        "atom_modify map array",
+        "comm_modify vel yes",
+        "newton off",
+        f"neighbor {_num(0.5 * dx)} bin",
+        "neigh_modify every 10 delay 0 check yes",
     ]
 
 
@@ -319,16 +336,7 @@ def _tlsph_input(spec, version: str) -> str:
     dx, D, R, E_star = _scales(spec)
     vol = dx**3
     lines = [
-        *_header(spec, version),
-        "units si",
-        "dimension 3",
-        "boundary s s s    # TLSPH: periodic boundaries delete particles or blow up",
-        "atom_style smd",
-        "atom_modify map array",
-        "comm_modify vel yes",
-        "newton off",
-        f"neighbor {_num(0.5 * dx)} bin",
-        "neigh_modify every 10 delay 0 check yes",
+        *smd_preamble(spec, version, dx),
         *_block_lines(spec, 2 if impact else 1, _impactor_top(spec, dx) if impact else 0.0),
         "create_atoms 1 region block",
         "group target type 1",

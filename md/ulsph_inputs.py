@@ -18,9 +18,9 @@ import math
 from dataclasses import dataclass
 
 from filmscale.core.checks import check_choice, check_real
-from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _header,
-                                          _indent_driver, _num, _run_lines, _scales, _u,
-                                          _weight_groups, layer_lines, smd_boundary_lines)
+from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _indent_driver,
+                                          _num, _run_lines, _scales, _u, _weight_groups,
+                                          layer_lines, smd_boundary_lines, smd_preamble)
 from filmscale.md.particles import ParticleMaterial
 
 
@@ -74,16 +74,7 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
     mats = spec.target.materials
     n_types = len(mats)
     lines = [
-        *_header(spec, version),
-        "units si",
-        "dimension 3",
-        "boundary s s s",
-        "atom_style smd",
-        "atom_modify map array",
-        "comm_modify vel yes",
-        "newton off",
-        f"neighbor {_num(0.5 * dx)} bin",
-        "neigh_modify every 10 delay 0 check yes",
+        *smd_preamble(spec, version, dx),
         *_block_lines(spec, n_types, 0.0),
         f"create_atoms {n_types} region block",
     ]

@@ -17,7 +17,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
 from filmscale.continuum.contact.hertz import elastic_impact, hertz_force
 from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
@@ -202,6 +201,7 @@ def sphero_conical_force(h, tip: SphericalCone, E_star: float):
     P = 2 E* int_0^a r^2 f'(r) / sqrt(a^2 - r^2) dr, with f' = r / sqrt(R^2 - r^2) on the
     spherical cap (r <= R cos theta) and cot(theta) on the cone. Both integrals are taken
     in r = a sin(phi), which removes the end singularity."""
+    from scipy.optimize import brentq
     theta = math.radians(tip.half_angle)
     b, cot = tip.R * math.cos(theta), 1 / math.tan(theta)
 

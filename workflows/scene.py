@@ -18,7 +18,7 @@ import numpy as np
 from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
                                  StackProfile)
 from filmscale.continuum.calibration.result import EXCLUDES
-from filmscale.continuum.calibration.route import CONTACT_ZEROS, TIP_MATERIALS
+from filmscale.continuum.calibration.target import CONTACT_ZEROS, TIP_MATERIALS
 from filmscale.continuum.contact.cylinder import CylinderImpactModel, check_cylinder_mass
 from filmscale.continuum.contact.impact_map import axis
 from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law

@@ -34,7 +34,6 @@ from dataclasses import asdict, dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.reverse.dao import dao_forward
@@ -197,6 +196,7 @@ def _joint_fit(parts, d_ref, sized: bool):
     """Least squares over [ln sigma_y0, h*/d_ref (``sized`` only, else h* = 0), each part's
     own parameters]. Returns the parameters (h*/d_ref included), their standard errors, the
     index of each part's own parameters, the sum of squares and its degrees of freedom."""
+    from scipy.optimize import least_squares
     first = 2 if sized else 1
     own_at = np.cumsum([first] + [len(p.own) for p in parts])
     sy0, h_star = _start([pt for p in parts for pt in p.strengths])

@@ -7,7 +7,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr, refuse_implausible
@@ -125,6 +124,7 @@ def nix_gao_strengths(points) -> NixGaoFit:
     N - 2 degrees of freedom (the stated stds weight the points; their scatter sets the
     scale, as in `nix_gao_fit`). ``H0`` of the result is sigma_y0, ``r2`` is that of
     ln sigma_y."""
+    from scipy.optimize import least_squares
     points = list(points)
     if len(points) < 3:
         raise InputError(f"a Nix-Gao fit needs at least 3 strengths, got {len(points)}")

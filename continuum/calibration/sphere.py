@@ -25,7 +25,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq, least_squares
 
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
@@ -194,6 +193,7 @@ def _joint_fits(data, law, target, zero, lnE, ln_sy, elastic_sy, joint_start=Non
     each with the contact zero last when ``zero`` fits it. A film's fit is kept within a
     factor 1000 of its start either way: beyond, the substrate alone carries the curve and
     the film's parameters run off."""
+    from scipy.optimize import least_squares
     low, high = np.full(2, -np.inf), np.full(2, np.inf)
     if target.layered:
         start = np.array([lnE, ln_sy] if joint_start is None else joint_start[:2])
@@ -282,6 +282,7 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
     after the pop-in. The contact law
     has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
     sigma_y adds the propagated std of E* to its own (conditional) one."""
+    from scipy.optimize import least_squares
     # stage 1: the elastic branch before each pop-in, each curve weighted by 1/P_max
     below = [(h[:pop + 1], P[:pop + 1], P[:pop + 1] <= fraction * P[pop], r, Pm)
              for h, P, r, Pm, pop in data if pop is not None]
@@ -386,6 +387,7 @@ def _yield_approach(law: ContactLaw, R, E_star, sigma_y, nu) -> float:
 def _yield_lower_bound(law: ContactLaw, delta_max, R, E_star, nu) -> float:
     """The sigma_y at which first yield falls exactly at the deepest point: any larger
     sigma_y leaves the whole curve elastic (root in ln sigma_y, bracketed by 1e-6 E* and E*)."""
+    from scipy.optimize import brentq
     def gap(ln_sy):
         return _yield_approach(law, R, E_star, math.exp(ln_sy), nu) - delta_max
     return math.exp(brentq(gap, math.log(1e-6 * E_star), math.log(E_star), xtol=1e-12))

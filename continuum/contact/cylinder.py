@@ -42,8 +42,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import lambertw
 
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
@@ -111,6 +109,8 @@ def line_work(b, R, E_star, datum, nu):
 def line_half_width(delta, R, datum, nu):
     """Inverse of `line_approach` for constant nu, by the Lambert W function: with
     u = ln(2d/b) - kappa, u exp(-2u) = delta R exp(2 kappa)/(2 d^2) on the branch u > 1/2."""
+    # function-level scipy imports keep the command line's start-up fast (docs/architecture.md)
+    from scipy.special import lambertw
     delta = np.asarray(delta, dtype=float)
     z = np.maximum(delta, 0.0) * R * np.exp(2.0 * _kappa(nu)) / (2.0 * datum * datum)
     with np.errstate(divide="ignore"):
@@ -585,6 +585,7 @@ def _first_root(f, hi, start=0.0, per_octave=4, octaves=60):
     """Smallest x in (start, hi] with f(x) >= 0 (f < 0 just before), by a geometric scan
     from hi 2^-octaves (or from start) and brentq; inf if f stays negative. ``f`` takes
     arrays."""
+    from scipy.optimize import brentq
     lo = max(start, hi * 2.0**-octaves)
     if lo >= hi:
         return math.inf
@@ -599,6 +600,7 @@ def _first_root(f, hi, start=0.0, per_octave=4, octaves=60):
 
 def _solve_increasing(f, hi):
     """Root of an increasing f on (0, hi] with f(0+) < 0 <= f(hi), bracketed in ln x."""
+    from scipy.optimize import brentq
     top = math.log(hi)
     return math.exp(brentq(lambda t: f(math.exp(t)), top - 200.0, top, xtol=1e-15,
                            rtol=1e-15))

@@ -18,7 +18,6 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.optimize import leastsq
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic, modulus_from_reduced
 from filmscale.core.checks import (check_broadcast, check_choice, check_float_array,
@@ -110,6 +109,7 @@ def _power_law_fit(h, P, h_max, P_max):
     h_f = h_lo - exp(u) keeps every point above h_f, so the model stays real; the start comes
     from the straight line through P^(2/3) (m = 1.5).
     """
+    from scipy.optimize import leastsq
     hn, Pn = h / h_max, P / P_max
     lo = float(hn.min())
     y = np.cbrt(np.clip(Pn, 0.0, None))**2          # P^(2/3): a line in h when m = 1.5

@@ -26,7 +26,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.checks import check_choice, check_real
@@ -237,6 +236,7 @@ def calibrate_tip(curves, reference="fused-silica", *, tip="berkovich", fit="bot
 def _minimise(misfit, parts, window, tip) -> float:
     """C_f in [0, 0.95 of the smallest total compliance] minimising ``misfit``: a grid of
     40 points, then Brent's bounded search between the best point's neighbours."""
+    from scipy.optimize import minimize_scalar
     _, S_total, _ = _indents(parts, 0.0, window, tip)
     S_total = S_total[np.isfinite(S_total) & (S_total > 0)]
     if S_total.size == 0:

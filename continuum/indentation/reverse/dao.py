@@ -27,7 +27,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import elementwise
 
 from filmscale.continuum.indentation.reverse.functions import (_N_GRID, DAO_RATIO_RANGE, E_I_DAO,
                                                                HR_HM_VERIFIED, METHODS, N_RANGE,
@@ -74,6 +73,7 @@ def yield_strength(sigma_r, E, n, eps_r):
     The right side rises with sigma_Y for n < 1, so the root is unique; it lies in
     [sigma_r (sigma_r / (sigma_r + E eps_r))^(n/(1-n)), sigma_r].
     """
+    from scipy.optimize import elementwise
     sigma_r, E, n, eps_r = np.broadcast_arrays(*(np.asarray(a, dtype=float)
                                                  for a in (sigma_r, E, n, eps_r)))
     out = sigma_r.copy()
@@ -237,6 +237,7 @@ _REASONS = {
 
 def _solve_n(x, target):
     """n on [0, 0.5] with Pi2(x, n) = target; flag 0 root, 1 at 0, 2 at 0.5 (no root)."""
+    from scipy.optimize import elementwise
     g = dao_pi2(x[:, None], _N_GRID[None, :]) - target[:, None]
     cross = g[:, :-1] * g[:, 1:] <= 0
     has = cross.any(axis=1)
@@ -267,6 +268,7 @@ def _n_sensitivity(x, n):
 
 def _pi1_x(CE, tip: _SharpCalibration):
     """x = ln(E*/sigma_r) solving Pi1(x) e^(-x) = C/E* in the tip's range; NaN where none."""
+    from scipy.optimize import elementwise
     lo, hi = tip.x_range
     f_lo = dao_pi1(lo, tip.pi1) * math.exp(-lo)
     f_hi = dao_pi1(hi, tip.pi1) * math.exp(-hi)

@@ -6,7 +6,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import elementwise
 
 from filmscale.continuum.indentation.reverse.dao import (_check_std, _check_WpWt, _point_warnings,
                                                          _raise_reason, _reverse_arrays,
@@ -74,6 +73,7 @@ def _dual_arrays(single, C2, tip, tip2):
     serves interpolated angles. No root: the nearer bound; n = 0 when the stress at the larger
     strain is not larger (no hardening).
     """
+    from scipy.optimize import elementwise
     good = single["reason"] == 0
     E, Es, s1 = single["E"], single["E_star"], single["sigma_r"]
     N = C2.size

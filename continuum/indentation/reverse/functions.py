@@ -14,7 +14,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import elementwise
 
 from filmscale.continuum.indentation.tips import Cone, parse_tip
 from filmscale.core.checks import check_real
@@ -127,6 +126,7 @@ def _pi4_inverse(p_over_E):
 
 def _pi5_inverse(WpWt):
     """h_r/h_m from W_p/W_t (Pi5 is increasing on [0, R0]); NaN outside WPWT_RANGE."""
+    from scipy.optimize import elementwise
     WpWt = np.asarray(WpWt, dtype=float)
     ok = (WpWt > WPWT_RANGE[0]) & (WpWt < WPWT_RANGE[1])
     out = np.full(WpWt.shape, np.nan)

@@ -123,3 +123,23 @@ def test_nix_gao_size_effect_scales_each_layers_sigma_y():
                                rtol=1e-12, atol=1e-3)
     with pytest.raises(InputError, match="h_star"):
         StackProfile(stack, (1e-8, 1e-8, 1e-8))
+
+
+@pytest.mark.parametrize("h_star", [(), (2e-8, 0.0, 5e-9, 1e-8)])
+def test_properties_equal_the_explicit_weighted_sums(h_star):
+    # properties telescopes sum_j w_j p_j over the interfaces; the layer weights of `weights`
+    # (a second route through the same Gao terms) must give the same numbers to rounding
+    layers = [Layer(t, ElasticPlastic(E=e, nu=n, sigma_y=s, name=str(i)))
+              for i, (t, e, n, s) in enumerate([(4e-9, 200e9, 0.2, 8e9), (16e-9, 180e9, 0.3, 5e9),
+                                               (8e-9, 150e9, 0.35, 3.5e9)])]
+    prof = StackProfile(LayerStack(layers, GLASS), h_star)
+    delta = np.geomspace(1e-12, 1e-5, 60)[:, None]
+    R = np.array([1e-7, 3e-6, 5e-5])
+    e_p, s_y, nu = prof.properties(delta, R)
+    assert e_p.shape == s_y.shape == nu.shape == (60, 3)
+    w1, w0 = prof.weights(delta, R)
+    mats = prof.materials()
+    np.testing.assert_allclose(e_p, w0 @ [m.plane_strain_modulus for m in mats], rtol=1e-13)
+    np.testing.assert_allclose(s_y, np.sum(w0 * prof.strengths(delta), axis=-1),
+                               rtol=1e-13)
+    np.testing.assert_allclose(nu, w1 @ [m.nu for m in mats], rtol=1e-13)

@@ -18,6 +18,7 @@ Jackson & Green, J. Tribol. 127 (2005) 343; Thornton, J. Appl. Mech. 64 (1997) 3
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -268,9 +269,11 @@ class KomvopoulosYe(ContactLaw):
         branch = np.asarray(branch)
         eps = self._clamped(self.severity(delta, R, E_star, sigma_y, nu), branch)
 
+        @functools.cache         # one logarithm for the three formulas that read it
         def ln_eps():            # read on plastic branches only, where eps >= EPS1
             return np.log(np.maximum(eps, c["EPS1"]))
 
+        @functools.cache
         def quad():
             ln = ln_eps()
             return c["Q2"] * ln**2 + c["Q1"] * ln + c["C2"]

@@ -14,6 +14,10 @@ from filmscale import __version__
 
 
 def _version(dist: str) -> str:
+    # a module already imported knows its version; the package metadata is a file search
+    module = sys.modules.get(dist)
+    if isinstance(getattr(module, "__version__", None), str):
+        return module.__version__
     try:
         return metadata.version(dist)
     except metadata.PackageNotFoundError:

@@ -143,7 +143,7 @@ def cylinder_table(quick: bool, repeat: int) -> None:
     speeds = (0.1, 3.0, 10.0) if quick else (0.1, 0.5, 1.0, 3.0, 10.0, 20.0)
     models = {label: CylinderImpactModel(target, 5e-3)
               for label, target in (("homogeneous", steel), ("layered", film))}
-    refs = {(label, V): model.history(V, 1e-3, 1e-3, rtol=1e-13)
+    refs = {(label, V): model.history(V, 1e-3, 1e-3, rtol=1e-13).result
             for label, model in models.items() for V in speeds}
     print("\n| cylinder path | setting | ms per impact, homogeneous | ms per impact, layered | "
           "max relative error |")
@@ -151,7 +151,7 @@ def cylinder_table(quick: bool, repeat: int) -> None:
     settings = [("energy quadrature", "adaptive, epsrel 1e-12",
                  lambda m, V: m.maxima(V, 1e-3, 1e-3))]
     settings += [("time integration", f"rtol {rtol:.0e}",
-                  lambda m, V, rtol=rtol: m.history(V, 1e-3, 1e-3, rtol=rtol))
+                  lambda m, V, rtol=rtol: m.history(V, 1e-3, 1e-3, rtol=rtol).result)
                  for rtol in (1e-6, 1e-8, 1e-10)]
     for path, setting, solve in settings:
         errs, times = [], {"homogeneous": [], "layered": []}

@@ -140,7 +140,8 @@ class StackProfile(DepthProfile):
         object.__setattr__(self, "h_star", h_star + (0.0,) * (len(mats) - len(h_star)))
         object.__setattr__(self, "_depths", np.asarray(self.stack.interface_depths, dtype=float))
         object.__setattr__(self, "_inverse_depths_squared", self._depths**-2.0)
-        object.__setattr__(self, "_a2_min", (self._depths[:1].sum() / _X_MAX) ** 2)
+        object.__setattr__(self, "_a2_min",
+                           (self._depths[0] / _X_MAX) ** 2 if self._depths.size else 0.0)
         object.__setattr__(self, "_props", np.array(
             [[m.plane_strain_modulus for m in mats], [m.sigma_y for m in mats],
              [m.nu for m in mats]]))

@@ -42,12 +42,6 @@ def _layer_weights(cumulative):
     return np.diff(np.concatenate([zeros, cumulative, zeros + 1.0], axis=-1), axis=-1)
 
 
-def _ratio(z, a):
-    """x = z / a, with a -> 0 (and a = -0.0 from delta = -0.0) mapped to a large finite x."""
-    with np.errstate(divide="ignore"):
-        return np.minimum(np.divide(z, np.abs(a)), _X_MAX)
-
-
 def _gao_terms(x):
     """(2/pi) atan(x) and x ln((1+x^2)/x^2), shared by I0 and I1 (0 at x = 0)."""
     x = np.asarray(x, dtype=float)
@@ -147,15 +141,25 @@ class StackProfile(DepthProfile):
              [m.nu for m in mats]]))
         object.__setattr__(self, "_jumps", self._props[:, :-1] - self._props[:, 1:])
 
+    def _interface_terms(self, delta, R):
+        """(shape, x, (2/pi) atan x, x ln((1+x^2)/x^2), x/(1+x^2)) at every interface (last
+        axis) for the broadcast points flattened to rows: x = z_k/a with a^2 = R delta,
+        floored where z_1/a would pass 1e15 (I0 = I1 = 1 to double precision there), so the
+        surface, delta = 0, has the top layer's properties."""
+        a2 = np.asarray(R) * np.asarray(delta, dtype=float)
+        shape = a2.shape
+        a2 = np.maximum(a2.reshape(-1, 1), self._a2_min)
+        x = self._depths * (1.0 / np.sqrt(a2))
+        return (shape, x, (2.0 / np.pi) * np.arctan(x),
+                x * np.log1p(a2 * self._inverse_depths_squared), x / (1.0 + x * x))
+
     def weights(self, delta, R):
         """(I1 weights, I0 weights) of each layer and the substrate (last axis), each summing
         to 1; I0 uses the I1-weighted Poisson ratio."""
-        a = np.sqrt(np.asarray(R) * np.asarray(delta, dtype=float))[..., None]
-        x = _ratio(self._depths, a)
-        angle, log_term = _gao_terms(x)
+        shape, x, angle, log_term, _ = self._interface_terms(delta, R)
         w1 = _layer_weights(angle + log_term / np.pi)
-        nu = w1 @ self._props[2]
-        return w1, _layer_weights(_i0(x, nu[..., None], angle, log_term))
+        w0 = _layer_weights(_i0(x, (w1 @ self._props[2])[:, None], angle, log_term))
+        return w1.reshape(shape + w1.shape[-1:]), w0.reshape(shape + w0.shape[-1:])
 
     def strengths(self, delta):
         """Each material's sigma_y at approach delta (last axis), Pa, Nix-Gao scaled."""
@@ -172,22 +176,14 @@ class StackProfile(DepthProfile):
             return e, np.broadcast_to(s_y[..., -1], e.shape).copy(), nu
         # The impact map's hot loop. sum_j w_j p_j with w_j = C_(j+1) - C_j (C_0 = 0,
         # C_(N+1) = 1) telescopes to p_N + sum_k C_k (p_(k-1) - p_k) over the N interfaces:
-        # three small matrix products, no (points x materials) weights. x = z_k/a with
-        # a^2 = R delta, floored where z_1/a would pass 1e15 (I0 = I1 = 1 to double
-        # precision there): the surface, delta = 0, has the top layer's properties.
-        a2 = np.asarray(R) * np.asarray(delta, dtype=float)
-        shape = a2.shape
-        a2 = np.maximum(a2.reshape(-1, 1), self._a2_min)
-        x = self._depths * (1.0 / np.sqrt(a2))
-        angle = (2.0 / np.pi) * np.arctan(x)
-        log_term = x * np.log1p(a2 * self._inverse_depths_squared)
+        # three small matrix products, no (points x materials) weights as in `weights`
+        shape, x, angle, log_term, bend = self._interface_terms(delta, R)
         # rows (E_p, sigma_y, nu) of jumps x sums over the interfaces: contiguous per quantity
         angle_sum, log_sum = self._jumps @ angle.T, self._jumps @ log_term.T
         e_base, s_base, nu_base = self._props[:, -1]
         nu = nu_base + angle_sum[2] + log_sum[2] / np.pi
         c = 1.0 / (2.0 * np.pi * (1.0 - nu))
         log_weight = c * (1.0 - 2.0 * nu)
-        bend = x / (1.0 + x * x)
         if any(self.h_star):
             cumulative = angle + log_weight[:, None] * log_term - c[:, None] * bend
             s_y = np.broadcast_to(s_y, shape + s_y.shape[-1:]).reshape(-1, s_y.shape[-1])

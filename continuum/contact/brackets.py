@@ -5,6 +5,11 @@ scipy.optimize costs 0.45 s, half of the second that a 100 x 100 impact map may 
 whole command (issue 21; benchmarks/startup.py). These two solvers are what the map needs:
 every point's bracket is solved together, in numpy, to a few ulps. Tests compare them with
 scipy.optimize.elementwise.
+
+T. R. Chandrupatla, A new hybrid quadratic/bisection algorithm for finding the zero of a
+nonlinear function without using derivatives, Adv. Eng. Softw. 28 (1997) 145-149;
+J. Kiefer, Sequential minimax search for a maximum, Proc. Am. Math. Soc. 4 (1953) 502-506
+(golden-section search). Units are those of the caller's f and x.
 """
 
 from __future__ import annotations

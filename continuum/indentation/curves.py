@@ -1,8 +1,13 @@
 """Load-displacement curves: the contract between scales, their segments and their data checks.
 
-A `LoadDisplacementCurve` holds depth h (m), load P (N), optional time t (s) and a segment
-label per point (load, hold, unload), detected from the load rate when not given. MD runs,
-particle runs and instrument files all produce this one type; every analysis takes it.
+A `LoadDisplacementCurve` holds depth h (m), load P (N), optional time t (s), a segment
+label per point (load, hold, unload; detected from the load rate when not given) and optional
+per-point instrument channels in SI (`CHANNELS`: the CSM harmonic contact stiffness, the
+instrument's own hardness and modulus, ...). MD runs, particle runs and instrument files all
+produce this one type; every analysis takes it.
+
+Where an unloading starts is found from the loads themselves (`unloading_start`): a hold at
+the peak whose load sags or creeps stays before it, wherever a rate filter put the label.
 
 `check_curve` flags what would spoil an analysis (no unloading, too few unloading points, NaN
 rows, reversals, load or displacement offsets, drift during a hold) without raising: a batch
@@ -35,6 +40,23 @@ HOLD_RATE_FRACTION = 0.05
 NOISE_SIGMAS = 4.0
 #: the unloading from the peak must shed at least this fraction of P_max (noise blips do not)
 UNLOADING_MIN_DROP = 0.1
+#: a hold before an unloading sheds load at under this fraction of the unloading's rate
+HOLD_SLOPE_RATIO = 0.35
+#: meta["segment_source"] of a curve whose labels an instrument file gave (markers, segments)
+SEGMENTS_FROM_FILE = "file"
+#: ... or that `cycles.cycle_curves` cut at a cycle's unloading start: labels to keep as given
+SEGMENTS_FROM_CYCLE = "cycle"
+
+#: per-point channels a curve may carry, with their SI unit
+CHANNELS = {
+    "S": "N/m",              # harmonic contact stiffness (CSM), frame removed
+    "S_total": "N/m",        # harmonic stiffness of contact and frame in series
+    "K_frame": "N/m",        # harmonic frame stiffness
+    "h_harmonic": "m",       # harmonic displacement amplitude (RMS)
+    "P_harmonic": "N",       # harmonic load amplitude (RMS)
+    "H_vendor": "Pa",        # the instrument's own hardness channel
+    "E_vendor": "Pa",        # the instrument's own modulus channel
+}
 
 
 @dataclass(frozen=True)
@@ -69,6 +91,9 @@ class LoadDisplacementCurve:
         radius.
     meta : mapping
         Provenance: source file, instrument or simulation inputs, seeds, versions.
+    channels : mapping
+        Per-point instrument channels by name (`CHANNELS`), in SI, one value per point; NaN
+        where the instrument gave none.
 
     Non-finite rows are kept (so `check_curve` can report them) and dropped by `finite()`,
     which every analysis calls first.
@@ -80,6 +105,7 @@ class LoadDisplacementCurve:
     segment: np.ndarray | None = None
     indenter: Tip | None = None
     meta: MappingProxyType = field(default_factory=dict)
+    channels: MappingProxyType = field(default_factory=dict)
 
     def __post_init__(self):
         h = _column("h", self.h)
@@ -103,6 +129,15 @@ class LoadDisplacementCurve:
         object.__setattr__(self, "segment", seg)
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
         object.__setattr__(self, "indenter", parse_tip(self.indenter) if self.indenter else None)
+        channels = {}
+        for name, values in dict(self.channels).items():
+            if name not in CHANNELS:
+                raise InputError(f"curve channel {name!r} is not one of {', '.join(CHANNELS)}")
+            arr = _column(name, values)
+            if arr.size != h.size:
+                raise InputError(f"curve channel {name} has {arr.size} points but h has {h.size}")
+            channels[name] = arr
+        object.__setattr__(self, "channels", MappingProxyType(channels))
 
     def __len__(self) -> int:
         return self.h.size
@@ -132,7 +167,8 @@ class LoadDisplacementCurve:
         if ok.sum() < 2:
             raise InputError("the curve has fewer than 2 finite points")
         return replace(self, h=self.h[ok], P=self.P[ok], t=None if self.t is None else self.t[ok],
-                       segment=self.segment[ok])
+                       segment=self.segment[ok],
+                       channels={k: v[ok] for k, v in self.channels.items()})
 
     @cached_property
     def _runs(self) -> tuple[tuple[int, int, int], ...]:
@@ -142,12 +178,20 @@ class LoadDisplacementCurve:
         """Contiguous segments as (label, start, stop) with stop exclusive."""
         return list(self._runs)
 
+    @property
+    def segments_given(self) -> bool:
+        """True when the labels are to be kept as given: an instrument file's segment markers,
+        or a cycle cut at its unloading start."""
+        return self.meta.get("segment_source") in (SEGMENTS_FROM_FILE, SEGMENTS_FROM_CYCLE)
+
     def unloading(self) -> slice:
         """Index range of the unloading that starts from the peak load.
 
         The first unload run after the largest load that sheds at least 10 % of it (shorter
-        dips in a noisy hold are skipped); a drift hold part-way down ends it. Empty slice
-        when there is none.
+        dips in a noisy hold are skipped); a drift hold part-way down ends it. It begins where
+        the file's markers say, else at `unloading_start`: after a hold at the peak, however
+        its load sags and wherever the rate filter put the boundary. Empty slice when there is
+        none.
         """
         peak = self.peak
         P_max = self.P[peak]
@@ -155,6 +199,8 @@ class LoadDisplacementCurve:
             if label == UNLOAD and stop > peak + 1:
                 begin = max(start - 1, peak)
                 if P_max - np.nanmin(self.P[begin:stop]) >= UNLOADING_MIN_DROP * abs(P_max):
+                    if not self.segments_given or start <= peak:
+                        begin = unloading_start(self.P, self.t, peak, stop)
                     return slice(begin, stop)
         return slice(0, 0)
 
@@ -181,7 +227,19 @@ class LoadDisplacementCurve:
         """h - C_f P: the displacement of the sample alone, given frame compliance C_f (m/N)."""
         C_f = check_real("frame compliance C_f", C_f, low=0.0, high=1.0, unit="m/N")
         meta = {**self.meta, "frame_compliance": C_f}
-        return replace(self, h=self.h - C_f * self.P, segment=self.segment, meta=meta)
+        channels = dict(self.channels)
+        if "S" in channels:         # springs in series: the contact alone is stiffer
+            with np.errstate(divide="ignore", invalid="ignore"):
+                inverse = 1.0 / channels["S"] - C_f
+                channels["S"] = np.where(inverse > 0, 1.0 / inverse, np.nan)
+        return replace(self, h=self.h - C_f * self.P, segment=self.segment, meta=meta,
+                       channels=channels)
+
+    def shifted(self, h0: float) -> LoadDisplacementCurve:
+        """h - h0: the depth zero moved to h0 (m), where the surface was re-found."""
+        h0 = check_real("surface shift h0", h0, low=-1.0, high=1.0, unit="m")
+        meta = {**self.meta, "surface_shift": h0 + float(self.meta.get("surface_shift", 0.0))}
+        return replace(self, h=self.h - h0, segment=self.segment, meta=meta)
 
     def drift_corrected(self, rate: float) -> LoadDisplacementCurve:
         """h - rate (t - t0): removes a thermal drift of `rate` (m/s) measured on a hold."""
@@ -198,9 +256,11 @@ class LoadDisplacementCurve:
         ``df.attrs`` holds the units, the tip and the provenance."""
         import pandas as pd
         columns = {"h": self.h, "P": self.P, **({"t": self.t} if self.t is not None else {}),
-                   "segment": pd.Categorical.from_codes(self.segment, SEGMENT_NAMES)}
+                   "segment": pd.Categorical.from_codes(self.segment, SEGMENT_NAMES),
+                   **self.channels}
         df = pd.DataFrame(columns)
-        df.attrs.update(units={"h": "m", "P": "N", "t": "s"},
+        df.attrs.update(units={"h": "m", "P": "N", "t": "s",
+                               **{k: CHANNELS[k] for k in self.channels}},
                         indenter=self.indenter.spec if self.indenter else "",
                         meta=dict(self.meta))
         return df
@@ -213,7 +273,9 @@ class LoadDisplacementCurve:
         if self.t is not None:
             coords["t"] = ("point", self.t, {"units": "s"})
         return xr.Dataset({"h": ("point", self.h, {"units": "m"}),
-                           "P": ("point", self.P, {"units": "N"})}, coords=coords,
+                           "P": ("point", self.P, {"units": "N"}),
+                           **{k: ("point", v, {"units": CHANNELS[k]})
+                              for k, v in self.channels.items()}}, coords=coords,
                           attrs={"indenter": self.indenter.spec if self.indenter else ""})
 
     def to_dict(self) -> dict:
@@ -221,7 +283,8 @@ class LoadDisplacementCurve:
                 "t": None if self.t is None else self.t.tolist(),
                 "segment": [SEGMENT_NAMES[s] for s in self.segment],
                 "indenter": self.indenter.spec if self.indenter else "",
-                "meta": dict(self.meta)}
+                "meta": dict(self.meta),
+                "channels": {k: v.tolist() for k, v in self.channels.items()}}
 
 
 def _column(name, values) -> np.ndarray:
@@ -259,8 +322,12 @@ def _runs(labels) -> list[tuple[int, int, int]]:
 
 @lru_cache(maxsize=64)
 def _derivative_kernel(window: int) -> np.ndarray:
-    from scipy.signal import savgol_coeffs   # 1 s to import: only when curves are read
-    return savgol_coeffs(window, 2, deriv=1, use="conv")
+    """Savitzky-Golay first derivative (quadratic, odd ``window``), in convolution order: on a
+    symmetric window the quadratic term drops out of the slope at the centre, leaving the
+    least-squares line's slope, -j / sum(j^2) (scipy.signal, whose import takes a second,
+    gives the same kernel; the curve tests compare them)."""
+    j = np.arange(-(window // 2), window // 2 + 1, dtype=float)
+    return -j / float(j @ j)
 
 
 def _quantile(x, q: float) -> float:
@@ -278,6 +345,62 @@ def _line(x, y) -> tuple[float, float, float]:
     a = float(y.mean()) - b * float(x.mean())
     r = y - (a + b * x)
     return a, b, float(r @ r)
+
+
+def _prefix_line_sse(x, y) -> np.ndarray:
+    """Sum of squared residuals of the least-squares line through the first k + 1 points,
+    for every k (cumulative sums: one pass for every break point)."""
+    n = np.arange(1, x.size + 1, dtype=float)
+    sx, sy = np.cumsum(x), np.cumsum(y)
+    sxx, sxy, syy = np.cumsum(x * x), np.cumsum(x * y), np.cumsum(y * y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vxx = sxx - sx * sx / n
+        vxy = sxy - sx * sy / n
+        vyy = syy - sy * sy / n
+        sse = np.where(vxx > 0, vyy - vxy * vxy / vxx, 0.0)
+    return np.maximum(sse, 0.0)
+
+
+def _slope(x, y) -> float:
+    dx = x - x.mean()
+    sxx = float(dx @ dx)
+    return float(dx @ (y - y.mean())) / sxx if sxx > 0 else 0.0
+
+
+def unloading_start(P, t, top: int, stop: int) -> int:
+    """Index where an unloading that follows the load peak at ``top`` begins.
+
+    A hold at the peak may sag (load relaxes) or creep, so the largest load is often its
+    first point and a rate filter smears its end. Between ``top`` and the point where the load
+    has fallen half-way to its lowest value before ``stop``, two straight lines P(t) are fitted
+    on either side of every break point; the break that leaves the least squared residual
+    ends the hold when the first line sheds load at under `HOLD_SLOPE_RATIO` of the second's
+    rate (and holds at least 3 points). Otherwise the unloading starts at ``top``. Without
+    times the sample index stands in for time.
+    """
+    P = np.asarray(P, dtype=float)
+    part = P[top:stop]
+    if part.size < 8 or not np.all(np.isfinite(part)):
+        return top
+    half = part[0] - 0.5 * (part[0] - part.min())
+    end = int(np.argmax(part <= half)) + 1
+    if end < 8:
+        return top
+    x = (np.asarray(t, dtype=float)[top:top + end] if t is not None
+         else np.arange(end, dtype=float))
+    if not np.all(np.isfinite(x)):
+        x = np.arange(end, dtype=float)
+    y = part[:end]
+    left = _prefix_line_sse(x, y)                     # lines through points 0..k
+    right = _prefix_line_sse(x[::-1], y[::-1])[::-1]  # lines through points k..end-1
+    k = np.arange(2, end - 3)                         # at least 3 points on each side
+    if k.size == 0:
+        return top
+    best = int(k[np.argmin(left[k] + right[k])])
+    hold, unload = _slope(x[:best + 1], y[:best + 1]), _slope(x[best:], y[best:])
+    if unload < 0 and abs(hold) < HOLD_SLOPE_RATIO * abs(unload):
+        return top + best
+    return top
 
 
 def _rate(P, t):
@@ -299,10 +422,11 @@ def _rate(P, t):
     step = 1.0
     if t is not None:
         step = _quantile(np.diff(t), 0.5)
-    from scipy.ndimage import convolve1d
     while True:
         kernel = _derivative_kernel(window)
-        rate = convolve1d(P, kernel, mode="nearest") / step
+        half = window // 2      # edges repeat the end values (scipy.ndimage's "nearest")
+        padded = np.concatenate([np.full(half, P[0]), P, np.full(half, P[-1])])
+        rate = np.convolve(padded, kernel, mode="valid") / step
         noise = sigma * float(np.linalg.norm(kernel)) / step
         scale = _quantile(np.abs(rate), 0.9)
         wider = min(max(n // 10, 5) | 1, largest)

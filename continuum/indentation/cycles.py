@@ -18,7 +18,8 @@ from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
 
-from .curves import HOLD, LOAD, UNLOAD, UNLOADING_MIN_DROP, LoadDisplacementCurve
+from .curves import (HOLD, LOAD, SEGMENTS_FROM_CYCLE, SEGMENTS_FROM_FILE, UNLOAD,
+                     UNLOADING_MIN_DROP, LoadDisplacementCurve, unloading_start)
 from .oliver_pharr import OliverPharrResult, oliver_pharr
 from .tips import Tip, parse_tip
 
@@ -53,16 +54,26 @@ def unloading_ranges(P, drop: float = UNLOADING_MIN_DROP) -> list[tuple[int, int
     return out
 
 
+def _cycle_start(c: LoadDisplacementCurve, top: int, stop: int) -> int:
+    """Where the unloading of the cycle peaking at ``top`` begins: at the file's unload marker
+    when the instrument labelled the points, else after the hold at the peak
+    (`curves.unloading_start`), however its load sags."""
+    if c.meta.get("segment_source") == SEGMENTS_FROM_FILE:
+        marked = np.flatnonzero(c.segment[top:stop] == UNLOAD)
+        if marked.size:
+            return top + max(int(marked[0]) - 1, 0)
+    return unloading_start(c.P, c.t, top, stop)
+
+
 def cycle_curves(curve: LoadDisplacementCurve) -> list[LoadDisplacementCurve]:
     """One curve per unloading cycle: the loading envelope up to the cycle's peak (labelled
     load and hold) and the cycle's unloading (labelled unload); one curve for a
     single-cycle test. Unloadings are found from the loads alone (`unloading_ranges`); a
-    hold at the peak stays before the unloading."""
+    hold at the peak stays before the unloading, however its load sags (`_cycle_start`)."""
     c = curve.finite()
     out, begin = [], 0
     for top, stop in unloading_ranges(c.P):
-        while top + 1 < stop and c.segment[top + 1] == HOLD:     # unloading starts after it
-            top += 1
+        top = _cycle_start(c, top, stop)
         # from the start when this cycle goes highest so far, else from its own reloading;
         # the loading keeps its envelope (points at the deepest depth so far), so earlier
         # unload-reload loops are not read as a loading that falls back
@@ -72,10 +83,11 @@ def cycle_curves(curve: LoadDisplacementCurve) -> list[LoadDisplacementCurve]:
                                np.arange(top + 1, stop)])
         seg = np.where(c.segment[keep] == HOLD, HOLD, LOAD).astype(np.int8)
         seg[keep > top] = UNLOAD
-        meta = {**c.meta, "cycle": len(out) + 1}
+        meta = {**c.meta, "cycle": len(out) + 1, "segment_source": SEGMENTS_FROM_CYCLE}
         out.append(LoadDisplacementCurve(
             c.h[keep], c.P[keep], None if c.t is None else c.t[keep], seg,
-            indenter=c.indenter, meta=meta))
+            indenter=c.indenter, meta=meta,
+            channels={k: v[keep] for k, v in c.channels.items()}))
         begin = stop
     return out
 

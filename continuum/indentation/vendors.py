@@ -6,18 +6,17 @@ Every reader returns curves in SI (m, N, s), converted from the units the file s
 gives. What each layout looks like and how a column mapping is written: docs/indentation.md,
 "Instrument files".
 
-- **Workbooks** (``.xlsx``, read with pandas and openpyxl): every sheet whose header row names
-  a depth and a load column is one test (``Test 001``, ...); sheets such as ``Results`` are
-  passed over. A row of units may follow the header. A segment column (``Segment``,
-  ``Marker``) with text at the start of each segment (``Loading``, ``Hold``, ``Unloading``,
-  ``Reloading 2`` ...) labels the points, so multi-cycle tests keep their cycles.
+- **Workbooks** (``.xls`` and ``.xlsx``): `workbooks.read_workbook`, one curve per test
+  sheet, with the CSM channels and the summary sheets' analysis inputs.
+- **Hysitron ``.hld``** (the header, approach, drift and test blocks TriboScan writes):
+  `hld.read_hld`; a ``.hld`` holding one header line over its numbers is delimited text.
 - **Delimited text**: the encoding (UTF-8, else Latin-1, as TriboScan writes ``µ``), the
   separator (tab, ``;``, ``,`` or blanks) and the decimal mark (a comma where the separator is
   not one) are found from the first rows of numbers; the line above them is the header, or
   the two lines above when the lower one holds only units; lines before are a preamble.
 
-pandas and openpyxl are imported inside the functions that use them: the command line starts
-without them.
+pandas and python-calamine are imported inside the functions that use them: the command line
+starts without them.
 """
 
 from __future__ import annotations
@@ -32,10 +31,10 @@ import numpy as np
 from filmscale.core.errors import InputError
 from filmscale.core.files import input_limit, read_toml, shown
 
-from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
+from .curves import LoadDisplacementCurve
 
 FORMATS = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
-EXCEL_SUFFIXES = (".xlsx", ".xlsm")
+EXCEL_SUFFIXES = (".xls", ".xlsx", ".xlsm")
 #: what each named format fixes before the rest is found from the file
 PRESETS = {
     "hysitron": {"encoding": "latin-1", "separator": "\t"},
@@ -79,9 +78,15 @@ def split_name(text) -> tuple[str, str | None]:
 
 
 def _is_unit_row(cells) -> bool:
-    """True when every non-empty cell is a unit (a G200 units row, a two-row header)."""
-    seen = [_unit(c) for c in cells if str(c).strip() and str(c) != "nan"]
-    return bool(seen) and all(u in _KNOWN_UNITS for u in seen)
+    """True for the row of units under a header (a G200 units row, a two-row header): no cell
+    is a number and at least one is a known unit. Units not known here (``deg``, ``nm^2``,
+    ``1/nm``) do not make it a data row."""
+    seen = [c for c in cells if c is not None and str(c).strip() and str(c) != "nan"]
+    if not seen or any(isinstance(c, (int, float)) and not isinstance(c, bool) for c in seen):
+        return False
+    if any(_number(str(c), ".") or _number(str(c), ",") for c in seen):
+        return False
+    return any(_unit(c) in _KNOWN_UNITS for c in seen)
 
 
 @dataclass(frozen=True)
@@ -231,89 +236,6 @@ def _curve(frame, picked, source, meta, segment=None) -> LoadDisplacementCurve:
     return LoadDisplacementCurve(data["h"][keep], data["P"][keep], t, seg, meta=meta)
 
 
-# ---- workbooks ------------------------------------------------------------------------------
-
-def _segment_labels(cells) -> np.ndarray | None:
-    """Per-row segment codes from marker text at segment starts (forward-filled); None when
-    the column has no markers or one that names no load, hold or unload."""
-    codes, current, seen = np.full(len(cells), -1, dtype=np.int8), None, False
-    for k, cell in enumerate(cells):
-        text = str(cell).strip().lower() if cell is not None else ""
-        if text and text != "nan":
-            seen = True
-            if "unload" in text:
-                current = UNLOAD
-            elif "hold" in text:
-                current = HOLD
-            elif "load" in text:
-                current = LOAD
-            else:
-                return None
-        if current is not None:
-            codes[k] = current
-    if not seen:
-        return None
-    codes[codes < 0] = LOAD          # rows before the first marker: the approach, loading
-    return codes
-
-
-def read_workbook(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
-    """Curves of an Excel workbook (G200/iMicro export), one per test sheet, by sheet name."""
-    import pandas as pd
-
-    options = options or ReadOptions()
-    path = Path(path)
-    _check_size(path)
-    try:
-        sheets = pd.read_excel(path, sheet_name=None, header=None, dtype=object,
-                               engine="openpyxl")
-    except Exception as err:  # openpyxl raises zipfile, KeyError, its own errors on bad files
-        raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xlsx): "
-                         f"{type(err).__name__}: {err}") from None
-    out, reasons = {}, []
-    for sheet, frame in sheets.items():
-        try:
-            out[str(sheet)] = _sheet_curve(frame, options, f"{path} sheet {sheet!r}",
-                                           {"source": str(path), "sheet": str(sheet),
-                                            "format": "workbook"})
-        except InputError as err:
-            reasons.append(str(err))
-    if not out:
-        raise InputError(f"workbook {shown(path)} holds no test sheet with depth and load "
-                         f"columns ({'; '.join(reasons) or 'it has no sheets'})")
-    return out
-
-
-def _sheet_curve(frame, options, source, meta) -> LoadDisplacementCurve:
-    rows = frame.to_numpy(dtype=object)
-    wanted = [split_name(key)[0].strip().lower() for _, key, _ in options.columns
-              if isinstance(key, str)]
-    header = None
-    for k in range(min(len(rows), 30)):
-        labels = [split_name(c)[0].strip().lower() for c in rows[k] if isinstance(c, str)]
-        if (all(w in labels for w in wanted) if wanted else
-                any(a in labels for a in ALIASES["h"]) and any(a in labels for a in ALIASES["P"])):
-            header = k
-            break
-    if header is None:
-        raise InputError(f"{source}: no header row naming depth and load")
-    names = ["" if not isinstance(c, str) else c for c in rows[header]]
-    first = header + 1
-    units = [None] * len(names)
-    if first < len(rows) and _is_unit_row(rows[first]):
-        units = [_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[first]]
-        first += 1
-    picked = _pick_columns(names, units, options, source)
-    body = frame.iloc[first:]
-    labels = [split_name(n)[0].strip().lower() for n in names]
-    segment = None
-    for k, label in enumerate(labels):
-        if label in SEGMENT_NAMES:
-            segment = _segment_labels(body.iloc[:, k].tolist())
-            break
-    return _curve(body, picked, source, meta, segment)
-
-
 # ---- delimited text ----------------------------------------------------------------------
 
 def _check_size(path: Path) -> None:
@@ -452,16 +374,34 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
 
 
 def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
-    """Curves of an instrument file by name: a workbook's test sheets or a text export's one
-    curve. InputError naming the file and why it cannot be read."""
+    """Curves of an instrument file by name: a workbook's test sheets, a Hysitron ``.hld``'s
+    test, or a text export's one curve. InputError naming the file and why it cannot be
+    read."""
     path = Path(path)
+    options = options or ReadOptions()
     suffix = path.suffix.lower()
-    if suffix == ".xls":
-        raise InputError(f"{shown(path)} is an Excel 97-2003 workbook (.xls), which is not "
-                         "read: save it as .xlsx")
     if suffix in EXCEL_SUFFIXES:
+        from .workbooks import read_workbook
         return read_workbook(path, options)
-    if options is not None and options.format == "g200":
-        raise InputError(f"{shown(path)}: format g200 reads the .xlsx workbooks NanoSuite "
-                         "exports; give the workbook, or --format delimited for its text")
+    if options.format == "g200":
+        raise InputError(f"{shown(path)}: format g200 reads the .xls and .xlsx workbooks "
+                         "NanoSuite exports; give the workbook, or --format delimited for its "
+                         "text")
+    if suffix == ".hld" and not options.columns and _hld_layout(path):
+        from .hld import read_hld
+        return read_hld(path)
     return read_delimited(path, options)
+
+
+def _hld_layout(path: Path) -> bool:
+    """True for the layout TriboScan writes to ``.hld``: a ``File Version: Hysitron`` header
+    and data blocks each opened by a ``... Data Points: N`` line (a text export with one
+    header line is read as delimited text)."""
+    _check_size(path)
+    if not path.is_file():
+        raise InputError(f"cannot read {shown(path)}: not a regular file")
+    try:
+        data = path.read_bytes()
+    except OSError as err:
+        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
+    return data.startswith(b"File Version: Hysitron") and b"Data Points:" in data

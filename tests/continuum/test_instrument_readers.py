@@ -114,7 +114,7 @@ def test_two_row_header_whitespace_and_decimal_comma(tmp_path):
 
 @pytest.mark.parametrize("name, content, match", [
     ("a.xlsx", b"PK\x03\x04 not a workbook", "cannot read .*a.xlsx as an Excel workbook"),
-    ("b.xls", b"\xd0\xcf\x11\xe0", "Excel 97-2003 workbook .*save it as .xlsx"),
+    ("b.xls", b"\xd0\xcf\x11\xe0", "b.xls as an Excel workbook .*not an office document"),
     ("c.txt", "Depth (V)\tLoad (V)\n1\t2\n3\t4\n5\t6\n7\t8\n".encode(),
      "column 'Depth \\(V\\)' \\(h\\) has unit 'V'"),
     ("d.txt", b"just words\nand more words\n", "d.txt.*no rows of numbers"),
@@ -166,7 +166,7 @@ def test_a_header_that_does_not_match_its_rows_is_refused(tmp_path):
 
 def test_named_formats(tmp_path):
     write_anton_paar(tmp_path / "ap.txt", CURVE)
-    with pytest.raises(InputError, match="format g200 reads the .xlsx workbooks"):
+    with pytest.raises(InputError, match="format g200 reads the .xls and .xlsx workbooks"):
         read_curves(tmp_path / "ap.txt", ReadOptions(format="g200"))
     with pytest.raises(InputError, match="is not a number|could not convert"):
         read_curves(tmp_path / "ap.txt", ReadOptions(format="filmscale"))    # no fallback

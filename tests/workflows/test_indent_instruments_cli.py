@@ -53,7 +53,7 @@ def test_unreadable_workbook_is_named_and_exits_2_without_traceback(tmp_path):
     run = subprocess.run([str(FILMSCALE), "indent", "analyze", str(tmp_path), "--tip",
                           "berkovich"], capture_output=True, text=True, stdin=subprocess.DEVNULL)
     assert run.returncode == 2 and "Traceback" not in run.stderr
-    assert "broken: cannot read" in run.stderr and "as an Excel workbook (.xlsx)" in run.stderr
+    assert "broken: cannot read" in run.stderr and "as an Excel workbook (.xls or .xlsx)" in run.stderr
     assert "good" in run.stdout
 
 

@@ -277,7 +277,8 @@ def read_area_function(path, base=None):
 
     ``C = [C0, C1, ...]`` are the coefficients of A = C0 h^2 + C1 h + C2 h^(1/2) + ... and
     ``length_unit`` (m, um or nm; default m) the unit of h in which they were fitted, A being
-    in its square, as instrument software reports them. ``base`` is the nominal tip
+    in its square, as instrument software reports them; ``h_c_range = [low, high]`` (same
+    unit, optional) the contact depths they were calibrated on. ``base`` is the nominal tip
     (Berkovich when None).
     """
     from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich
@@ -294,7 +295,15 @@ def read_area_function(path, base=None):
         raise InputError(f"area file {path}: length_unit = {unit!r} is not one of m, um, nm")
     u = UNITS[unit]
     si = tuple(float(c) * u**(2.0 - p) for c, p in zip(coef, POLYNOMIAL_EXPONENTS))
-    return PolynomialArea(si, berkovich() if base is None else base)
+    h_range = data.get("h_c_range")
+    if h_range is not None:
+        if not (isinstance(h_range, list) and len(h_range) == 2 and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in h_range)
+                and 0 <= h_range[0] < h_range[1]):
+            raise InputError(f"area file {path}: h_c_range must be [low, high] contact depths "
+                             f"in {unit}, 0 <= low < high")
+        h_range = (h_range[0] * u, h_range[1] * u)
+    return PolynomialArea(si, berkovich() if base is None else base, h_range)
 
 
 def read_frame_compliance(path) -> float | None:

@@ -241,6 +241,9 @@ def oliver_pharr(curve: LoadDisplacementCurve, tip: Tip | str, *, window=(0.2, 0
         return _failed(tip, (lo, hi), flags, f"contact depth h_c = {h_c:.3g} m is not positive",
                        P_max, h_max)
     A_c = float(tip.area(h_c))
+    if not (math.isfinite(A_c) and A_c > 0):
+        return _failed(tip, (lo, hi), flags, f"the area function gives A = {A_c:.3g} m^2 at "
+                       f"h_c = {h_c:.4g} m: not a contact area", P_max, h_max)
     E_r = math.sqrt(math.pi) * S / (2.0 * beta_value * math.sqrt(A_c))
 
     def rescaled(f_h, f_P):

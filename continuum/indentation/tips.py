@@ -310,11 +310,13 @@ class PolynomialArea(Tip):
     """Oliver-Pharr area function A = C0 h^2 + C1 h + C2 h^(1/2) + ... + C8 h^(1/128).
 
     Coefficients in SI: C_k in m^(2 - 2^(1-k)). ``base`` is the nominal tip (its
-    half-angle, eps and beta are kept).
+    half-angle, eps and beta are kept). ``h_range`` (m) is the range of contact depths it was
+    calibrated on, when known: analyses flag contact depths outside it.
     """
 
     coefficients: tuple = (BERKOVICH_AREA,)
     base: Tip = field(default_factory=berkovich)
+    h_range: tuple | None = None
 
     def __post_init__(self):
         coef = tuple(float(c) for c in self.coefficients)
@@ -322,6 +324,12 @@ class PolynomialArea(Tip):
             raise InputError(f"area function needs 1 to 9 finite coefficients C0..C8, "
                              f"got {self.coefficients!r}")
         object.__setattr__(self, "coefficients", coef)
+        if self.h_range is not None:
+            lo, hi = (float(v) for v in self.h_range)
+            if not 0.0 <= lo < hi:
+                raise InputError(f"area function h_range = {self.h_range!r} must be "
+                                 "(low, high) depths with 0 <= low < high, m")
+            object.__setattr__(self, "h_range", (lo, hi))
         object.__setattr__(self, "spec", f"{self.base.spec}+polynomial")
         object.__setattr__(self, "epsilon", self.base.epsilon)
         object.__setattr__(self, "beta", self.base.beta)

@@ -26,7 +26,7 @@ from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 from filmscale.core.quantities import eng
 
-from . import calibrate_cli, indent_calibrate, md_cli, particles_cli, pipeline_cli
+from . import calibrate_cli, indent_calibrate, indent_cli, md_cli, particles_cli, pipeline_cli
 from .quantity_args import add_quantity_argument, convert_quantities, range_arg
 from .outputs import (add_force_argument, check_outputs, hdf5_kind, image_kind, output_path,
                       plot_path, scene_files, text_kind)
@@ -88,7 +88,6 @@ HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radiu
 CYLINDER_HISTORY_HEADER = HISTORY_HEADER.replace("contact_radius", "contact_half_width")
 #: either history may replace the other without --force
 HISTORY_KIND = text_kind((HISTORY_HEADER, CYLINDER_HISTORY_HEADER), "an impact history")
-PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
 
 
 def _scene_files(scene: Scene) -> list[tuple[str, Path]]:
@@ -298,161 +297,6 @@ def _cylinder_models(scene: Scene) -> dict:
     return models
 
 
-def _window_arg(text: str) -> tuple[float, float]:
-    parts = text.split(":")
-    try:
-        low, high = (float(v) for v in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected LOW:HIGH fractions of P_max, got {text!r}") \
-            from None
-    return low, high
-
-
-def _constant_arg(choices):
-    def parse(text: str):
-        if text in choices:
-            return text
-        try:
-            return float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected one of {', '.join(choices)} or a "
-                                             f"number, got {text!r}") from None
-    return parse
-
-
-def _lengths_arg(text: str) -> tuple[float, ...]:
-    from filmscale.continuum.indentation.tips import parse_length
-    try:
-        return tuple(check_real("--layers depth", parse_length(v, "--layers depth"), low=0.0,
-                                low_open=True, unit="m")
-                     for v in text.split(",") if v.strip())
-    except InputError as err:
-        raise argparse.ArgumentTypeError(str(err)) from None
-
-
-def _profile_table(profile, path: Path) -> None:
-    """Per-indent (h_c, E_r, H) in the units scenes read ([target.profile] file)."""
-    data = np.column_stack([profile.h_c * 1e9, profile.E_r / 1e9, profile.H / 1e9])
-    with atomic_path(path) as tmp:
-        np.savetxt(tmp, data, delimiter=", ", header=PROFILE_HEADER,
-                   comments="", fmt="%.10g")
-
-
-def cmd_indent_analyze(args) -> int:
-    from .indent import (UNREADABLE, AnalysisOptions, analyze_files, expand_inputs, options_dict,
-                         profile_of, reader_options, resolve_tip, shallow_depth_correction)
-
-    frame = args.frame_compliance
-    if frame is None and args.area_file:     # the compliance `indent calibrate` wrote with it
-        from filmscale.continuum.indentation.io import read_frame_compliance
-        frame = read_frame_compliance(args.area_file)
-    options = AnalysisOptions(tip=args.tip, area_file=args.area_file, window=args.window,
-                              epsilon=args.epsilon, beta=args.beta, nu=args.nu,
-                              frame_compliance=frame or 0.0,
-                              drift=not args.no_drift, plot_dir=args.plot,
-                              read_format=args.format, columns=args.columns,
-                              read_options=args.reader, cycles=args.cycles)
-    if args.tip:
-        resolve_tip(options)           # a bad --tip or --area-file stops here, before any work
-    elif args.area_file:
-        raise InputError("--area-file needs --tip (the nominal tip it refines)")
-    reader_options(args.format, args.columns, args.reader)    # a bad mapping stops here too
-    check_real("--window start", args.window[0], low=0.0, high=1.0, high_open=True)
-    check_real("--window end", args.window[1], low=args.window[0], high=1.0, low_open=True)
-    if args.nu is not None:
-        check_real("--nu", args.nu, low=-1.0, high=0.5, low_open=True, high_open=True)
-    if args.frame_compliance is not None:
-        check_real("--frame-compliance", args.frame_compliance, low=0.0, high=1.0, unit="m/N")
-    # the ranges the analysis checks for each curve, refused here once before any curve
-    if not isinstance(args.epsilon, str):
-        check_real("--epsilon", args.epsilon, low=0.5, high=1.0)
-    if not isinstance(args.beta, str):
-        check_real("--beta", args.beta, low=0.5, high=2.0)
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers} must be at least 1")
-    if args.beta in ("hay", "no-slip") and args.nu is None:
-        raise InputError(f"--beta {args.beta} needs the sample Poisson ratio --nu")
-    output_path("--out", args.out, ("h5", "hdf5"))
-    output_path("--profile", args.profile)
-    if args.plot and Path(args.plot).exists() and not Path(args.plot).is_dir():
-        raise InputError(f"--plot {args.plot} is a file: give a folder for the plots")
-    files = expand_inputs(args.files)
-    from .result import INDENT_RESULTS_FORMAT
-    check_outputs([("an input curve file", f) for f in files]
-                  + ([("the --area-file", args.area_file)] if args.area_file else []),
-                  [("--out", args.out, hdf5_kind(INDENT_RESULTS_FORMAT, "indentation results")),
-                   ("--profile", args.profile, text_kind(PROFILE_HEADER, "a profile table"))],
-                  args.force)
-    if args.plot:
-        Path(args.plot).mkdir(parents=True, exist_ok=True)
-
-    start = time.perf_counter()
-    records = analyze_files(files, options, workers=args.workers)
-    elapsed = time.perf_counter() - start
-    unreadable = [r for r in records if r.get("status") == UNREADABLE]
-    analysed = [r for r in records if r.get("status") == 0]
-    for r in unreadable:
-        print(f"filmscale: error: {r['name']}: {r['message']}", file=sys.stderr)
-    elastic = shallow_depth_correction(records, options) if args.shallow_correction else None
-    profile, nix_gao = profile_of(records, args.layers or (),
-                                  tuple(args.layer_names.split(",")) if args.layer_names else ())
-
-    if args.json:
-        for r in records:
-            print(dumps(r))
-    else:
-        print(f"{'curve':<28} {'E_r [GPa]':>10} {'H [GPa]':>9} {'h_c [nm]':>9} "
-              f"{'S [N/m]':>10}  flags")
-        for r in records:
-            if r.get("status") == 0:
-                print(f"{r['name'][:28]:<28} {r['E_r'] / 1e9:10.4g} {r['H'] / 1e9:9.4g} "
-                      f"{r['h_c'] * 1e9:9.4g} {r['S']:10.4g}  {','.join(r['flags'])}")
-            else:
-                print(f"{r['name'][:28]:<28} {'-':>10} {'-':>9} {'-':>9} {'-':>10}  "
-                      f"{','.join(r['flags'])} ({r['message']})")
-    flagged = sum(1 for r in analysed if r["flags"])
-    print(f"analysed {len(analysed)} of {len(records)} curves in {elapsed:.2f} s; "
-          f"{flagged} with flags, {len(records) - len(analysed)} not analysed", file=sys.stderr)
-    if elastic is not None:
-        print(f"shallow-depth correction: elastic reference {records[elastic]['name']} "
-              f"(H_shallow)", file=sys.stderr)
-    if profile is not None and not args.json:
-        print(profile.summary())
-        if nix_gao is not None:
-            print(f"Nix-Gao: H0 = {nix_gao.H0 / 1e9:.4g} +- {nix_gao.H0_std / 1e9:.2g} GPa, "
-                  f"h* = {nix_gao.h_star * 1e9:.4g} +- {nix_gao.h_star_std * 1e9:.2g} nm")
-
-    if args.out:
-        from filmscale.core.provenance import provenance
-
-        from .result import write_indentation_results
-        profile_data = None
-        if profile is not None:
-            profile_data = profile.to_dict()
-            profile_data["nix_gao"] = nix_gao.to_dict() if nix_gao is not None else None
-        write_indentation_results(args.out, records, provenance(command=" ".join(sys.argv)),
-                                  options_dict(options), profile_data)
-        print(f"wrote {args.out}", file=sys.stderr)
-    if args.profile:
-        if profile is None:
-            raise InputError("--profile needs at least 2 analysed curves")
-        _profile_table(profile, Path(args.profile))
-        print(f"wrote {args.profile}", file=sys.stderr)
-    if args.plot and profile is not None:
-        from filmscale.continuum.materials import DIAMOND
-
-        from .plots import plot_property_profile
-        try:
-            fit = profile.to_depth_profile()
-        except InputError:          # too few indents between interfaces for the lines
-            fit = None
-        plot_property_profile(profile, Path(args.plot) / "profile.png", nix_gao, fit,
-                              DIAMOND.compliance, title=f"{len(analysed)} indents")
-    if unreadable:
-        return 2
-    return 0 if analysed else 1
-
-
 def cmd_indent_reverse(args) -> int:
     from filmscale.continuum.indentation.reverse.dao import dao_reverse
     from filmscale.continuum.indentation.reverse.dual import dual_reverse
@@ -529,48 +373,7 @@ def build_parser() -> argparse.ArgumentParser:
     indent = sub.add_parser("indent", help="indentation analysis: Oliver-Pharr, reverse analysis",
                             description="Analyse indentation load-displacement curves.")
     isub = indent.add_subparsers(dest="indent_command", required=True)
-    p = isub.add_parser("analyze", help="Oliver-Pharr analysis of one or many curves",
-                        description="Oliver-Pharr analysis of curve files (text with units in "
-                                    "the header, e.g. 'h [nm], P [uN], t [s]', filmscale "
-                                    "HDF5, or instrument exports: G200/iMicro .xlsx, TriboScan "
-                                    ".txt/.hld, Anton Paar and other delimited text) and of "
-                                    "every curve file inside the folders given.")
-    p.add_argument("files", nargs="+", metavar="FILES", help="curve files or folders")
-    p.add_argument("--tip", help="berkovich, cube-corner, cone:THETA, sphere:R, "
-                                 "sphero-conical:R[:THETA], flat:A (lengths in m or with nm/um); "
-                                 "default: the indenter each curve names")
-    p.add_argument("--area-file", metavar="F.toml",
-                   help="polynomial area function: C = [C0, C1, ...], length_unit = 'nm'")
-    p.add_argument("--window", type=_window_arg, default=(0.2, 0.98), metavar="LOW:HIGH",
-                   help="unloading fit window, fractions of P_max (default 0.2:0.98)")
-    p.add_argument("--epsilon", type=_constant_arg(("tip", "exponent")), default="tip",
-                   help="geometry constant: tip (default), exponent, or a number")
-    p.add_argument("--beta", type=_constant_arg(("tip", "hay", "no-slip")), default="tip",
-                   help="beta: tip (default), hay, no-slip, or a number")
-    p.add_argument("--nu", type=float, help="sample Poisson ratio: adds E to the results")
-    add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
-                          help="frame compliance to remove: m/N, or with units (0.2 nm/mN)")
-    p.add_argument("--no-drift", action="store_true",
-                   help="keep thermal drift (default: remove the drift of a low-load hold)")
-    indent_calibrate.add_reader_arguments(p)
-    p.add_argument("--cycles", action="store_true",
-                   help="analyse every unloading of multi-cycle tests: one record per cycle "
-                        "(NAME#1, NAME#2, ...), a depth profile from one indent")
-    p.add_argument("--shallow-correction", action="store_true",
-                   help="add the Yeo-Polycarpou hardness H_shallow when an elastic indent "
-                        "is among the curves")
-    p.add_argument("--layers", type=_lengths_arg, metavar="Z1,Z2,...",
-                   help="layer interface depths for the profile (m, or with nm/um)")
-    p.add_argument("--layer-names", metavar="A,B,...,SUBSTRATE",
-                   help="one name per layer and one for the substrate")
-    p.add_argument("--json", action="store_true", help="print one JSON object per curve (SI)")
-    p.add_argument("--out", metavar="RESULTS.h5", help="HDF5 file of all results")
-    p.add_argument("--profile", metavar="PROFILE.csv",
-                   help="write h_c, E_r, H per indent: a [target.profile] file for scenes")
-    p.add_argument("--plot", metavar="DIR", help="one plot per curve and the depth profile")
-    p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
-    add_force_argument(p)
-    p.set_defaults(func=cmd_indent_analyze)
+    indent_cli.add_parser(isub)
     indent_calibrate.add_parser(isub)
 
     p = isub.add_parser("reverse", help="E*, sigma_r, n, sigma_y from a sharp-tip curve (Dao)",

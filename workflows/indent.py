@@ -17,17 +17,23 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.indentation import nix_gao_fit, oliver_pharr
-from filmscale.continuum.indentation.curves import drift_rate
+from filmscale.continuum.indentation.curves import CurveFlag, drift_rate
 from filmscale.continuum.indentation.cycles import cycle_curves
 from filmscale.continuum.indentation.io import (CURVE_SUFFIXES, HDF5_SUFFIXES, read_area_function,
                                                 read_curves)
 from filmscale.continuum.indentation.oliver_pharr import elastic_indent, shallow_depth_hardness
 from filmscale.continuum.indentation.property_profile import property_profile
-from filmscale.continuum.indentation.tips import parse_tip
+from filmscale.continuum.indentation.tips import PolynomialArea, parse_tip
 from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError
 
 UNREADABLE = "unreadable"
+FAILED = 1
+#: ``--area-file`` values that take the area function the curve file states
+AREA_FROM_FILE = ("file", "vendor")
+#: beta of the instruments' own methods, for ``--area-file file`` (NanoSuite's G-Series CSM
+#: method: Beta 1.000; TriboScan's Oliver-Pharr analysis: 1)
+METHOD_BETA = {"g200-workbook": 1.0, "hysitron-hld": 1.0}
 
 
 @dataclass(frozen=True)
@@ -47,6 +53,9 @@ class AnalysisOptions:
     columns: str | None = None      #: column mapping, h=NAME[:UNIT],P=...,t=...
     read_options: str | None = None  #: TOML file of reader options (`vendors.read_options_file`)
     cycles: bool = False            #: every unloading cycle, not only the one from the peak
+    surface: str = "auto"           #: contact-point criterion (`surface.parse_surface`)
+    csm: bool = False               #: CSM analysis of every loading point
+    depth_range: tuple | None = None  #: depths (m) of the CSM averages; None: the file's
 
 
 @lru_cache(maxsize=4)
@@ -68,9 +77,21 @@ def _tip(spec: str, area_file: str | None, _modified: int):
     return read_area_function(area_file, tip) if area_file else tip
 
 
-def resolve_tip(options: AnalysisOptions, curve_indenter=None):
-    """The tip for a curve: the option's (text), else the curve's own (a `Tip`); InputError
-    when neither."""
+def area_from_file(options: AnalysisOptions) -> bool:
+    return options.area_file in AREA_FROM_FILE
+
+
+def resolve_tip(options: AnalysisOptions, curve_indenter=None, meta=None):
+    """The tip for a curve: the option's (text), else the curve's own (a `Tip`); with
+    ``--area-file file`` the area function the curve's file states (``meta``). InputError
+    when there is none."""
+    if area_from_file(options):
+        vendor = (meta or {}).get("vendor") or meta or {}
+        coefficients = vendor.get("area_coefficients") or (meta or {}).get("area_coefficients")
+        if not coefficients:
+            raise InputError("--area-file file: the curve's file states no area function "
+                             "(area coefficients)")
+        return PolynomialArea(tuple(coefficients), parse_tip(options.tip or "berkovich"))
     spec = options.tip or curve_indenter
     if not spec:
         raise InputError("the curve does not name its indenter: give --tip")
@@ -109,7 +130,8 @@ def _safe_name(name: str) -> str:
 
 
 def analyze_file(path, options: AnalysisOptions) -> list[dict]:
-    """Oliver-Pharr records (plain dicts, SI) of every curve in one file."""
+    """Records (plain dicts, SI) of every curve in one file: Oliver-Pharr, or CSM with
+    ``options.csm``."""
     path = Path(path)
     try:
         curves = read_curves(path, reader_options(options.read_format, options.columns,
@@ -121,41 +143,136 @@ def analyze_file(path, options: AnalysisOptions) -> list[dict]:
     for name, curve in curves.items():
         label = f"{path.stem}:{name}" if path.suffix.lower() in HDF5_SUFFIXES \
             or name != path.stem else name
-        record = {"name": label, "file": str(path)}
-        try:
-            tip = resolve_tip(options, curve.indenter)
-            if options.frame_compliance:
-                curve = curve.frame_corrected(options.frame_compliance)
-            rate = None
-            if options.drift and curve.t is not None:
-                try:
-                    rate = drift_rate(curve)
-                    curve = curve.drift_corrected(rate)
-                except InputError:       # no low-load hold: nothing to correct
-                    rate = None
-            parts = cycle_curves(curve) if options.cycles else [curve]
-            if not parts:
-                raise InputError("no unloading that sheds 10 % of its load: no cycle to "
-                                 "analyse")
-            results = [oliver_pharr(part, tip, window=options.window, epsilon=options.epsilon,
-                                    beta=options.beta, nu=options.nu) for part in parts]
-        except InputError as err:
-            records.append({**record, "status": UNREADABLE, "message": str(err),
-                            "flags": [UNREADABLE]})
-            continue
-        for k, (part, result) in enumerate(zip(parts, results)):
-            named = {**record, "name": f"{label}#{k + 1}"} if options.cycles else dict(record)
-            named.update(result.to_dict())
-            named["drift_rate"] = rate
-            if options.cycles:
-                named["cycle"] = k + 1
-            records.append(named)
-            if options.plot_dir:
-                from .plots import plot_curve_analysis
-                plot_curve_analysis(part, result,
-                                    Path(options.plot_dir) / f"{_safe_name(named['name'])}.png",
-                                    title=named["name"])
+        records += analyze_curve(curve, {"name": label, "file": str(path)}, options)
     return records
+
+
+def _method_constants(options: AnalysisOptions, meta) -> tuple:
+    """(beta, nu, where nu came from) for a curve: the options', else, with ``--area-file
+    file``, the instrument method's beta, and the file's Poisson ratio when --nu is not
+    given."""
+    beta = options.beta
+    if beta == "tip" and area_from_file(options) and meta.get("format") in METHOD_BETA:
+        beta = METHOD_BETA[meta["format"]]
+    nu = options.nu
+    file_nu = (meta.get("vendor") or {}).get("nu")
+    if nu is None and isinstance(file_nu, (int, float)) and -1.0 < file_nu < 0.5:
+        return beta, float(file_nu), "file"
+    return beta, nu, "option" if nu is not None else None
+
+
+def _prepare(curve, options: AnalysisOptions) -> tuple:
+    """The curve with frame compliance, drift and the surface dealt with, and what was done:
+    (curve, record fields, flags)."""
+    from filmscale.continuum.indentation.surface import FLAG_FRACTION, find_surface
+
+    fields, flags = {}, []
+    if options.frame_compliance:
+        curve = curve.frame_corrected(options.frame_compliance)
+    vendor = curve.meta.get("vendor") or {}
+    rate = None
+    if vendor.get("drift_correction") and "drift_rate" in vendor:
+        rate, fields["drift_source"] = vendor["drift_rate"], "file (removed by the instrument)"
+    elif options.drift and curve.t is not None:
+        try:
+            rate = drift_rate(curve)
+            curve = curve.drift_corrected(rate)
+            fields["drift_source"] = "measured on the low-load hold"
+        except InputError:       # no low-load hold: nothing to correct
+            rate = None
+    fields["drift_rate"] = rate
+    found = find_surface(curve, options.surface)
+    if found.shift:
+        curve = curve.shifted(found.shift)
+    fields.update(found.to_dict())
+    h_max = float(np.nanmax(np.abs(curve.h))) if curve.h.size else 0.0
+    if abs(found.shift) > FLAG_FRACTION * h_max:
+        flags.append(CurveFlag("surface_shift", f"the depth zero moved by "
+                               f"{found.shift * 1e9:.3g} nm ({found.method}): the file's "
+                               f"contact point was {abs(found.shift) / h_max:.1%} of h_max off"))
+    return curve, fields, flags
+
+
+def _extrapolated(tip, h_c) -> CurveFlag | None:
+    """The flag of contact depths outside the range the area function was calibrated on."""
+    lo, hi = getattr(tip, "h_range", None) or (None, None)
+    if lo is None:
+        return None
+    h_c = np.atleast_1d(np.asarray(h_c, dtype=float))
+    out = np.count_nonzero((h_c < lo) | (h_c > hi))
+    if not out:
+        return None
+    return CurveFlag("area_extrapolated", f"{out} of {h_c.size} contact depths lie outside the "
+                     f"area function's calibrated range {lo * 1e9:.4g}-{hi * 1e9:.4g} nm")
+
+
+def _with_flags(record: dict, flags) -> dict:
+    codes = list(record.get("flags", [])) + [f.code for f in flags]
+    messages = list(record.get("flag_messages", [])) + [f.message for f in flags]
+    return {**record, "flags": codes, "flag_messages": messages}
+
+
+def analyze_curve(curve, record: dict, options: AnalysisOptions) -> list[dict]:
+    """The records of one curve (one per cycle with ``options.cycles``); a curve that cannot be
+    analysed gives one record with status FAILED and the reason, and the batch goes on."""
+    try:
+        tip = resolve_tip(options, curve.indenter, curve.meta)
+        beta, nu, nu_source = _method_constants(options, curve.meta)
+        curve, fields, flags = _prepare(curve, options)
+    except InputError as err:
+        return [{**record, "status": FAILED, "message": str(err), "flags": ["failed"]}]
+    record = {**record, **fields, "nu_source": nu_source}
+    vendor = curve.meta.get("vendor") or {}
+    if vendor.get("E") is not None or vendor.get("H") is not None:
+        record["vendor"] = {k: vendor.get(k) for k in ("E", "H")}
+    if options.csm:
+        return [_csm_record(curve, tip, record, flags, options, beta, nu)]
+    parts = cycle_curves(curve) if options.cycles else [curve]
+    if not parts:
+        return [_with_flags({**record, "status": FAILED, "message": "no unloading that sheds "
+                             "10 % of its load: no cycle to analyse"}, flags)]
+    records = []
+    for k, part in enumerate(parts):
+        result = oliver_pharr(part, tip, window=options.window, epsilon=options.epsilon,
+                              beta=beta, nu=nu)
+        named = {**record, "name": f"{record['name']}#{k + 1}"} if options.cycles \
+            else dict(record)
+        named.update(result.to_dict())
+        extra = list(flags)
+        if result.ok and (flag := _extrapolated(tip, result.h_c)):
+            extra.append(flag)
+        named = _with_flags(named, extra)
+        if options.cycles:
+            named["cycle"] = k + 1
+            cycles = vendor.get("cycles") or []
+            if k < len(cycles):
+                named["vendor"] = {key: cycles[k].get(key) for key in ("E", "H", "S")}
+        records.append(named)
+        if options.plot_dir:
+            from .plots import plot_curve_analysis
+            plot_curve_analysis(part, result,
+                                Path(options.plot_dir) / f"{_safe_name(named['name'])}.png",
+                                title=named["name"])
+    return records
+
+
+def _csm_record(curve, tip, record, flags, options: AnalysisOptions, beta, nu) -> dict:
+    from filmscale.continuum.indentation.csm import csm_analysis
+
+    result = csm_analysis(curve, tip, depth_range=options.depth_range,
+                          epsilon=None if options.epsilon == "tip" else options.epsilon,
+                          beta=None if beta == "tip" else beta, nu=nu)
+    out = {**record, **result.to_dict(), "status": result.status,
+           "message": result.message, "E_r": result.E_r_mean, "E": result.E_mean,
+           "H": result.H_mean, "h_c": result.h_c_mean, "tip": result.tip}
+    extra = list(flags)
+    if result.ok and (flag := _extrapolated(tip, result.h_c)):
+        extra.append(flag)
+    if result.ok and result.n_range == 0:
+        lo, hi = result.depth_range
+        extra.append(CurveFlag("depth_range_empty", f"no analysed point between "
+                               f"{lo * 1e9:.4g} and {hi * 1e9:.4g} nm"))
+    return _with_flags(out, extra)
 
 
 def _analyze_chunk(args) -> list[dict]:
@@ -180,7 +297,7 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
     size = max(1, min(256, math.ceil(len(paths) / (workers * 8))))
     chunks = [(paths[i:i + size], options) for i in range(0, len(paths), size)]
     from filmscale.workflows.progress import progress_bar
-    bar = progress_bar(len(paths), "curve", "analysing", enabled=progress)
+    bar = progress_bar(len(paths), "file", "reading and analysing", enabled=progress)
     records = []
     try:
         if workers == 1 or len(paths) < 64:

@@ -1,0 +1,324 @@
+"""``filmscale indent analyze``: Oliver-Pharr or CSM analysis of curve files and folders, with
+the contact point re-found, the file's own area function where asked, and a table that names
+every curve whole."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.core.checks import check_real
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_path
+from filmscale.core.jsonable import dumps
+
+from . import indent_calibrate
+from .outputs import add_force_argument, check_outputs, hdf5_kind, output_path, text_kind
+from .quantity_args import add_quantity_argument
+
+#: header of the per-indent table ``--profile`` writes (a [target.profile] file of scenes)
+PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
+
+
+def add_parser(isub) -> None:
+    p = isub.add_parser("analyze", help="Oliver-Pharr analysis of one or many curves",
+                        description="Oliver-Pharr analysis of curve files (text with units in "
+                                    "the header, e.g. 'h [nm], P [uN], t [s]', filmscale "
+                                    "HDF5, or instrument exports: G200/iMicro .xlsx, TriboScan "
+                                    ".txt/.hld, Anton Paar and other delimited text) and of "
+                                    "every curve file inside the folders given.")
+    p.add_argument("files", nargs="+", metavar="FILES", help="curve files or folders")
+    p.add_argument("--tip", help="berkovich, cube-corner, cone:THETA, sphere:R, "
+                                 "sphero-conical:R[:THETA], flat:A (lengths in m or with nm/um); "
+                                 "default: the indenter each curve names")
+    p.add_argument("--area-file", metavar="F.toml|file",
+                   help="polynomial area function: a TOML file (C = [C0, C1, ...], "
+                        "length_unit = 'nm'), or 'file' (also 'vendor'): the one each curve's "
+                        "file states, with its method's beta and Poisson ratio")
+    p.add_argument("--window", type=_window_arg, default=(0.2, 0.98), metavar="LOW:HIGH",
+                   help="unloading fit window, fractions of P_max (default 0.2:0.98)")
+    p.add_argument("--surface", default="auto",
+                   metavar="auto|file|fit|load:P|stiffness:S|slope:K",
+                   help="contact point: auto (default: re-found from the loading near contact, "
+                        "kept from the file when within 1 %% of h_max), the file's zero, the "
+                        "loading power law's zero, or where the load, the CSM stiffness or "
+                        "dP/dh first exceeds a threshold (SI or with units: load:2uN)")
+    p.add_argument("--csm", action="store_true",
+                   help="continuous stiffness: E_r, E and H at every loading point from the "
+                        "harmonic contact stiffness, and their averages over --depth-range")
+    p.add_argument("--depth-range", type=_depth_range_arg, metavar="LOW:HIGH",
+                   help="with --csm: depths of the averages (100nm:200nm; default the file's "
+                        "own, else every point)")
+    p.add_argument("--epsilon", type=_constant_arg(("tip", "exponent")), default="tip",
+                   help="geometry constant: tip (default), exponent, or a number")
+    p.add_argument("--beta", type=_constant_arg(("tip", "hay", "no-slip")), default="tip",
+                   help="beta: tip (default), hay, no-slip, or a number")
+    p.add_argument("--nu", type=float, help="sample Poisson ratio: adds E to the results")
+    add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
+                          help="frame compliance to remove: m/N, or with units (0.2 nm/mN)")
+    p.add_argument("--no-drift", action="store_true",
+                   help="keep thermal drift (default: remove the drift of a low-load hold)")
+    indent_calibrate.add_reader_arguments(p)
+    p.add_argument("--cycles", action="store_true",
+                   help="analyse every unloading of multi-cycle tests: one record per cycle "
+                        "(NAME#1, NAME#2, ...), a depth profile from one indent")
+    p.add_argument("--shallow-correction", action="store_true",
+                   help="add the Yeo-Polycarpou hardness H_shallow when an elastic indent "
+                        "is among the curves")
+    p.add_argument("--layers", type=_lengths_arg, metavar="Z1,Z2,...",
+                   help="layer interface depths for the profile (m, or with nm/um)")
+    p.add_argument("--layer-names", metavar="A,B,...,SUBSTRATE",
+                   help="one name per layer and one for the substrate")
+    p.add_argument("--json", action="store_true", help="print one JSON object per curve (SI)")
+    p.add_argument("--out", metavar="RESULTS.h5", help="HDF5 file of all results")
+    p.add_argument("--profile", metavar="PROFILE.csv",
+                   help="write h_c, E_r, H per indent: a [target.profile] file for scenes")
+    p.add_argument("--plot", metavar="DIR", help="one plot per curve and the depth profile")
+    p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
+    add_force_argument(p)
+    p.set_defaults(func=cmd_indent_analyze)
+
+
+def _window_arg(text: str) -> tuple[float, float]:
+    parts = text.split(":")
+    try:
+        low, high = (float(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected LOW:HIGH fractions of P_max, got {text!r}") \
+            from None
+    return low, high
+
+
+def _constant_arg(choices):
+    def parse(text: str):
+        if text in choices:
+            return text
+        try:
+            return float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected one of {', '.join(choices)} or a "
+                                             f"number, got {text!r}") from None
+    return parse
+
+
+def _lengths_arg(text: str) -> tuple[float, ...]:
+    from filmscale.continuum.indentation.tips import parse_length
+    try:
+        return tuple(check_real("--layers depth", parse_length(v, "--layers depth"), low=0.0,
+                                low_open=True, unit="m")
+                     for v in text.split(",") if v.strip())
+    except InputError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
+def _profile_table(profile, path: Path) -> None:
+    """Per-indent (h_c, E_r, H) in the units scenes read ([target.profile] file)."""
+    data = np.column_stack([profile.h_c * 1e9, profile.E_r / 1e9, profile.H / 1e9])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, data, delimiter=", ", header=PROFILE_HEADER,
+                   comments="", fmt="%.10g")
+
+
+def _depth_range_arg(text: str) -> tuple[float, float]:
+    """LOW:HIGH depths, each in m or with a unit (100nm:200nm)."""
+    from filmscale.continuum.indentation.tips import parse_length
+    parts = text.split(":")
+    try:
+        if len(parts) != 2:
+            raise InputError(f"--depth-range {text!r} must be LOW:HIGH, e.g. 100nm:200nm")
+        lo, hi = (parse_length(v.strip(), "--depth-range depth") for v in parts)
+        lo = check_real("--depth-range start", lo, low=0.0, unit="m")
+        return lo, check_real("--depth-range end", hi, low=lo, low_open=True, unit="m")
+    except InputError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
+def _analysis_options(args):
+    """The `AnalysisOptions` of ``indent analyze``, every option checked before any work."""
+    from filmscale.continuum.indentation.surface import parse_surface
+
+    from .indent import AREA_FROM_FILE, AnalysisOptions, reader_options, resolve_tip
+
+    frame = args.frame_compliance
+    from_file = args.area_file in AREA_FROM_FILE
+    if frame is None and args.area_file and not from_file:
+        from filmscale.continuum.indentation.io import read_frame_compliance
+        frame = read_frame_compliance(args.area_file)   # what `indent calibrate` wrote with it
+    parse_surface(args.surface)
+    options = AnalysisOptions(tip=args.tip, area_file=args.area_file, window=args.window,
+                              epsilon=args.epsilon, beta=args.beta, nu=args.nu,
+                              frame_compliance=frame or 0.0,
+                              drift=not args.no_drift, plot_dir=args.plot,
+                              read_format=args.format, columns=args.columns,
+                              read_options=args.reader, cycles=args.cycles,
+                              surface=args.surface, csm=args.csm,
+                              depth_range=args.depth_range)
+    if args.tip and not from_file:
+        resolve_tip(options)           # a bad --tip or --area-file stops here, before any work
+    elif args.tip:
+        from filmscale.continuum.indentation.tips import parse_tip
+        parse_tip(args.tip)
+    elif args.area_file and not from_file:
+        raise InputError("--area-file needs --tip (the nominal tip it refines)")
+    reader_options(args.format, args.columns, args.reader)    # a bad mapping stops here too
+    check_real("--window start", args.window[0], low=0.0, high=1.0, high_open=True)
+    check_real("--window end", args.window[1], low=args.window[0], high=1.0, low_open=True)
+    if args.nu is not None:
+        check_real("--nu", args.nu, low=-1.0, high=0.5, low_open=True, high_open=True)
+    if args.frame_compliance is not None:
+        check_real("--frame-compliance", args.frame_compliance, low=0.0, high=1.0, unit="m/N")
+    # the ranges the analysis checks for each curve, refused here once before any curve
+    if not isinstance(args.epsilon, str):
+        check_real("--epsilon", args.epsilon, low=0.5, high=1.0)
+    if not isinstance(args.beta, str):
+        check_real("--beta", args.beta, low=0.5, high=2.0)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers} must be at least 1")
+    if args.beta in ("hay", "no-slip") and args.nu is None:
+        raise InputError(f"--beta {args.beta} needs the sample Poisson ratio --nu")
+    if args.csm and (args.cycles or args.shallow_correction):
+        raise InputError("--csm analyses every loading point of a test: it does not combine "
+                         "with --cycles or --shallow-correction")
+    if args.csm and args.beta in ("hay", "no-slip"):
+        raise InputError(f"--csm takes a numeric --beta, not {args.beta}")
+    if args.depth_range and not args.csm:
+        raise InputError("--depth-range is the depth range of the CSM averages: give --csm")
+    if args.shallow_correction and from_file:
+        raise InputError("--shallow-correction needs one area function for every curve: give "
+                         "an area file, not --area-file file")
+    return options
+
+
+def _num(value, scale: float, fmt: str) -> str:
+    return "-" if value is None or not np.isfinite(value) else format(value / scale, fmt)
+
+
+def _pm(r: dict, key: str) -> str:
+    """``mean +- std`` in GPa of a CSM average."""
+    return f"{_num(r.get(key + '_mean'), 1e9, '.4g')} +- {_num(r.get(key + '_std'), 1e9, '.2g')}"
+
+
+def _table(records, csm: bool) -> list[str]:
+    """The results table: whole curve names; E where a Poisson ratio was known; the surface
+    shift where one was applied; against the instrument's own values where the file had them."""
+    def ok(r):
+        return r.get("status") == 0
+
+    with_E = any(ok(r) and r.get("E") is not None and np.isfinite(r["E"]) for r in records)
+    columns = []          # (header, width, cell of an analysed record)
+    if csm:
+        columns += [("E_r [GPa]", 15, lambda r: _pm(r, "E_r"))]
+        columns += [("E [GPa]", 15, lambda r: _pm(r, "E"))] if with_E else []
+        columns += [("H [GPa]", 15, lambda r: _pm(r, "H")),
+                    ("points", 6, lambda r: str(r["n_range"])),
+                    ("depths [nm]", 11, lambda r: "{:.0f}-{:.0f}".format(
+                        *(d * 1e9 for d in r["depth_range"])))]
+        if any(r.get("vendor_difference") for r in records):
+            columns += [(f"{k} vs file", 9, lambda r, k=k: format(
+                (r.get("vendor_difference") or {}).get(k, np.nan), "+.2%")
+                if k in (r.get("vendor_difference") or {}) else "-") for k in ("E", "H")]
+    else:
+        columns += [("E_r [GPa]", 10, lambda r: _num(r["E_r"], 1e9, ".4g"))]
+        columns += [("E [GPa]", 9, lambda r: _num(r.get("E"), 1e9, ".4g"))] if with_E else []
+        columns += [("H [GPa]", 9, lambda r: _num(r["H"], 1e9, ".4g")),
+                    ("h_c [nm]", 9, lambda r: _num(r["h_c"], 1e-9, ".4g")),
+                    ("S [N/m]", 10, lambda r: _num(r["S"], 1.0, ".4g"))]
+    if any(r.get("surface_shift") for r in records):
+        columns += [("surface [nm]", 12, lambda r: _num(r.get("surface_shift") or 0.0, 1e-9,
+                                                         ".3g"))]
+    width = max([5] + [len(r["name"]) for r in records])
+    lines = [" ".join([f"{'curve':<{width}}"] + [f"{h:>{w}}" for h, w, _ in columns])
+             + "  flags"]
+    for r in records:
+        cells = [cell(r) if ok(r) else "-" for _, _, cell in columns]
+        row = " ".join([f"{r['name']:<{width}}"] + [f"{c:>{w}}" for c, (_, w, _) in
+                                                    zip(cells, columns)])
+        why = "" if ok(r) else f" ({r.get('message', '')})"
+        lines.append(f"{row}  {','.join(r.get('flags', []))}{why}")
+    return lines
+
+
+def cmd_indent_analyze(args) -> int:
+    from .indent import UNREADABLE, analyze_files, expand_inputs, options_dict, profile_of
+    from .indent import shallow_depth_correction
+
+    options = _analysis_options(args)
+    output_path("--out", args.out, ("h5", "hdf5"))
+    output_path("--profile", args.profile)
+    if args.plot and Path(args.plot).exists() and not Path(args.plot).is_dir():
+        raise InputError(f"--plot {args.plot} is a file: give a folder for the plots")
+    files = expand_inputs(args.files)
+    from .result import INDENT_RESULTS_FORMAT
+    check_outputs([("an input curve file", f) for f in files]
+                  + ([("the --area-file", args.area_file)]
+                     if args.area_file and args.area_file not in ("file", "vendor") else []),
+                  [("--out", args.out, hdf5_kind(INDENT_RESULTS_FORMAT, "indentation results")),
+                   ("--profile", args.profile, text_kind(PROFILE_HEADER, "a profile table"))],
+                  args.force)
+    if args.plot:
+        Path(args.plot).mkdir(parents=True, exist_ok=True)
+
+    start = time.perf_counter()
+    records = analyze_files(files, options, workers=args.workers)
+    elapsed = time.perf_counter() - start
+    unreadable = [r for r in records if r.get("status") == UNREADABLE]
+    analysed = [r for r in records if r.get("status") == 0]
+    for r in unreadable:
+        print(f"filmscale: error: {r['name']}: {r['message']}", file=sys.stderr)
+    elastic = shallow_depth_correction(records, options) if args.shallow_correction else None
+    profile, nix_gao = profile_of(records, args.layers or (),
+                                  tuple(args.layer_names.split(",")) if args.layer_names else ())
+
+    if args.json:
+        for r in records:
+            print(dumps(r))
+    else:
+        print("\n".join(_table(records, args.csm)))
+    flagged = sum(1 for r in analysed if r["flags"])
+    print(f"analysed {len(analysed)} of {len(records)} curves from {len(files)} files in "
+          f"{elapsed:.2f} s; {flagged} with flags, {len(records) - len(analysed)} not analysed",
+          file=sys.stderr)
+    if elastic is not None:
+        print(f"shallow-depth correction: elastic reference {records[elastic]['name']} "
+              f"(H_shallow)", file=sys.stderr)
+    if profile is not None and not args.json:
+        print(profile.summary())
+        if nix_gao is not None:
+            print(f"Nix-Gao: H0 = {nix_gao.H0 / 1e9:.4g} +- {nix_gao.H0_std / 1e9:.2g} GPa, "
+                  f"h* = {nix_gao.h_star * 1e9:.4g} +- {nix_gao.h_star_std * 1e9:.2g} nm")
+
+    if args.out:
+        from filmscale.core.provenance import provenance
+
+        from .result import write_indentation_results
+        profile_data = None
+        if profile is not None:
+            profile_data = profile.to_dict()
+            profile_data["nix_gao"] = nix_gao.to_dict() if nix_gao is not None else None
+        write_indentation_results(args.out, records, provenance(command=" ".join(sys.argv)),
+                                  options_dict(options), profile_data)
+        print(f"wrote {args.out}", file=sys.stderr)
+    if args.profile:
+        if profile is None:
+            raise InputError("--profile needs at least 2 analysed curves")
+        _profile_table(profile, Path(args.profile))
+        print(f"wrote {args.profile}", file=sys.stderr)
+    if args.plot and profile is not None:
+        from filmscale.continuum.materials import DIAMOND
+
+        from .plots import plot_property_profile
+        try:
+            fit = profile.to_depth_profile()
+        except InputError:          # too few indents between interfaces for the lines
+            fit = None
+        plot_property_profile(profile, Path(args.plot) / "profile.png", nix_gao, fit,
+                              DIAMOND.compliance, title=f"{len(analysed)} indents")
+    if unreadable:
+        return 2
+    return 0 if analysed else 1
+
+

@@ -161,7 +161,7 @@ def _method_constants(options: AnalysisOptions, meta) -> tuple:
     return beta, nu, "option" if nu is not None else None
 
 
-def _prepare(curve, options: AnalysisOptions) -> tuple:
+def prepare_curve(curve, options: AnalysisOptions) -> tuple:
     """The curve with frame compliance, drift and the surface dealt with, and what was done:
     (curve, record fields, flags)."""
     from filmscale.continuum.indentation.surface import FLAG_FRACTION, find_surface
@@ -218,7 +218,7 @@ def analyze_curve(curve, record: dict, options: AnalysisOptions) -> list[dict]:
     try:
         tip = resolve_tip(options, curve.indenter, curve.meta)
         beta, nu, nu_source = _method_constants(options, curve.meta)
-        curve, fields, flags = _prepare(curve, options)
+        curve, fields, flags = prepare_curve(curve, options)
     except InputError as err:
         return [{**record, "status": FAILED, "message": str(err), "flags": ["failed"]}]
     record = {**record, **fields, "nu_source": nu_source}
@@ -266,7 +266,9 @@ def _csm_record(curve, tip, record, flags, options: AnalysisOptions, beta, nu) -
            "message": result.message, "E_r": result.E_r_mean, "E": result.E_mean,
            "H": result.H_mean, "h_c": result.h_c_mean, "tip": result.tip}
     extra = list(flags)
-    if result.ok and (flag := _extrapolated(tip, result.h_c)):
+    lo, hi = result.depth_range
+    averaged = result.h_c[(result.h >= lo) & (result.h <= hi)]
+    if result.ok and (flag := _extrapolated(tip, averaged)):
         extra.append(flag)
     if result.ok and result.n_range == 0:
         lo, hi = result.depth_range

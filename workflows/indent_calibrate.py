@@ -12,11 +12,11 @@ import time
 from pathlib import Path
 
 from filmscale.core.checks import check_real
-from filmscale.core.errors import InputError
+from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
-from .outputs import add_force_argument, check_outputs, output_path, text_kind
+from .outputs import check_outputs, output_path, text_kind
 from .quantity_args import add_quantity_argument
 
 FORMAT_CHOICES = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
@@ -54,7 +54,17 @@ def add_parser(isub) -> None:
                    help="nominal tip: berkovich (default), cube-corner, cone:THETA")
     p.add_argument("--terms", type=int, default=4,
                    help="area coefficients C0..C(N-1), 2 to 9 (default 4; C0 stays the "
-                        "nominal tip's)")
+                        "nominal tip's unless --fit-c0)")
+    p.add_argument("--fit-c0", action="store_true",
+                   help="fit C0 as well (a real tip's differs from the ideal 24.5)")
+    p.add_argument("--method", choices=("auto", "unloading", "csm"), default="auto",
+                   help="indents from unloadings, or from every loading point of CSM tests "
+                        "(default auto: csm when every curve has the harmonic stiffness)")
+    p.add_argument("--surface", default="auto",
+                   metavar="auto|file|fit|load:P|stiffness:S|slope:K",
+                   help="contact point, as in indent analyze (default auto)")
+    p.add_argument("--no-drift", action="store_true",
+                   help="keep thermal drift (default: remove it as indent analyze does)")
     p.add_argument("--area-file", metavar="F.toml",
                    help="with --fit frame: the area function to keep (default: the nominal tip)")
     add_quantity_argument(p, "--frame-compliance", "m/N", metavar="C_F",
@@ -65,7 +75,10 @@ def add_parser(isub) -> None:
     add_reader_arguments(p)
     p.add_argument("--json", action="store_true", help="print the calibration as JSON (SI)")
     p.add_argument("--out", required=True, metavar="TIP.toml", help="the area file to write")
-    add_force_argument(p)
+    p.add_argument("--force", action="store_true",
+                   help="write the area file even when the quality gate refuses the fit, and "
+                        "replace an existing file that is not an earlier output of this "
+                        "command (an input is never replaced)")
     p.set_defaults(func=cmd_indent_calibrate)
 
 
@@ -82,11 +95,13 @@ def cmd_indent_calibrate(args) -> int:
     from filmscale.continuum.indentation.io import read_area_function, read_curves
     from filmscale.continuum.indentation.tip_calibration import (AREA_FILE_HEADER,
                                                                  calibrate_tip, parse_reference)
+    from filmscale.continuum.indentation.surface import parse_surface
     from filmscale.continuum.indentation.tips import parse_tip
 
-    from .indent import expand_inputs, reader_options
+    from .indent import AnalysisOptions, expand_inputs, prepare_curve, reader_options
 
     reference = parse_reference(args.reference)      # bad options stop here, before any work
+    parse_surface(args.surface)
     tip = parse_tip(args.tip)
     window = _window(args.window)
     if args.area_file and args.fit != "frame":
@@ -107,19 +122,37 @@ def cmd_indent_calibrate(args) -> int:
                   [("--out", args.out, text_kind(AREA_FILE_HEADER, "a tip area file"))],
                   args.force)
 
+    prepare = AnalysisOptions(drift=not args.no_drift, surface=args.surface)
     start = time.perf_counter()
-    curves = []
+    curves, names, shifts = [], [], []
     for f in files:
-        curves += read_curves(f, read).values()      # an unreadable file stops: exit 2
+        for name, curve in read_curves(f, read).items():   # an unreadable file stops: exit 2
+            curve, fields, _ = prepare_curve(curve, prepare)
+            curves.append(curve)
+            names.append(f"{f.stem}:{name}" if name != f.stem else name)
+            shifts.append(fields["surface_shift"])
     cal = calibrate_tip(curves, reference, tip=tip, fit=args.fit, terms=args.terms,
-                        frame_compliance=C_f, area=area, window=window)
+                        frame_compliance=C_f, area=area, window=window, fit_c0=args.fit_c0,
+                        method=args.method, names=names)
     elapsed = time.perf_counter() - start
-    with atomic_path(Path(args.out)) as tmp:
-        Path(tmp).write_text(cal.area_file_text("nm"), encoding="utf-8")
+    problem = cal.problem()
     if args.json:
-        print(dumps(cal.to_dict()))
+        print(dumps({**cal.to_dict(), "surface_shift": dict(zip(names, shifts))}))
     else:
         print(cal.summary())
-    print(f"calibrated on {len(cal.h_c)} indents from {len(files)} files in {elapsed:.2f} s; "
+    moved = sum(1 for s in shifts if s)
+    if moved:
+        print(f"surface re-found on {moved} of {len(curves)} curves (--surface {args.surface})",
+              file=sys.stderr)
+    if problem and not args.force:
+        raise ModelRangeError(f"calibration refused, {args.out} not written: {problem} "
+                              "(--force writes it anyway)")
+    with atomic_path(Path(args.out)) as tmp:
+        Path(tmp).write_text(cal.area_file_text("nm"), encoding="utf-8")
+    if problem:
+        print(f"filmscale: warning: written although refused (--force): {problem}",
+              file=sys.stderr)
+    what = "CSM points" if cal.method == "csm" else "indents"
+    print(f"calibrated on {len(cal.h_c)} {what} from {len(files)} files in {elapsed:.2f} s; "
           f"wrote {args.out}", file=sys.stderr)
     return 0

@@ -220,14 +220,15 @@ INDENT_RESULTS_FORMAT = "filmscale.indent_results/1"
 INDENT_UNITS = {"E_r": "Pa", "H": "Pa", "h_c": "m", "S": "N/m", "A_c": "m^2", "P_max": "N",
                 "h_max": "m", "h_f": "m", "m": "1", "B": "N/m^m", "epsilon": "1", "beta": "1",
                 "E": "Pa", "W_t": "J", "W_e": "J", "W_p": "J", "We_Wt": "1", "fit_rms": "1",
-                "n_fit": "1", "status": "1"}
+                "n_fit": "1", "status": "1", "surface_shift": "m", "drift_rate": "m/s",
+                "E_r_std": "Pa", "E_std": "Pa", "H_std": "Pa", "n_range": "1"}
 
 
 def write_indentation_results(path, records: list[dict], provenance: dict[str, str],
                               options: dict, profile: dict | None = None) -> Path:
-    """Oliver-Pharr results of many curves: one dataset per field (one row per curve, SI),
-    the curve names and source files, the flags as JSON text, and the property-depth
-    profile when one was computed."""
+    """Oliver-Pharr or CSM results of many curves: one dataset per field (one row per curve,
+    SI), the curve names and source files, the flags as JSON text, the CSM arrays of each
+    row (group ``csm/ROW``), and the property-depth profile when one was computed."""
     with atomic_h5(path) as f:
         f.attrs["format"] = INDENT_RESULTS_FORMAT
         for key, value in provenance.items():
@@ -243,6 +244,19 @@ def write_indentation_results(path, records: list[dict], provenance: dict[str, s
             values = np.array([np.nan if r.get(key) is None else r[key] for r in records],
                               dtype=float)
             f.create_dataset(key, data=values).attrs["units"] = unit
+        for key in ("E", "H"):      # against the instrument's own channels (CSM)
+            f.create_dataset(f"vendor_difference_{key}", data=np.array(
+                [(r.get("vendor_difference") or {}).get(key, np.nan) for r in records],
+                dtype=float)).attrs["units"] = "1"
+        csm = [(k, r["csm"]) for k, r in enumerate(records) if r.get("csm")]
+        if csm:         # the per-depth CSM arrays of each record, by its row
+            g = f.create_group("csm")
+            for k, arrays in csm:
+                row = g.create_group(str(k))
+                for key, unit in (("h", "m"), ("h_c", "m"), ("S", "N/m"), ("E_r", "Pa"),
+                                  ("E", "Pa"), ("H", "Pa")):
+                    row.create_dataset(key, data=np.asarray(arrays[key], dtype=float)
+                                       ).attrs["units"] = unit
         if profile is not None:
             g = f.create_group("profile")
             g.attrs["layer_names"] = dumps(profile["layer_names"])

@@ -7,7 +7,8 @@ commas, names may contain spaces). Later lines starting with # are comments. A c
 a unit is taken as SI already. In comma-separated rows an empty field is NaN.
 
 HDF5 curves (format ``filmscale.curve/1``): one group per curve with datasets ``h`` (m), ``P``
-(N), optional ``t`` (s) and ``segment`` (0 load, 1 hold, 2 unload), attributes ``indenter``
+(N), optional ``t`` (s) and ``segment`` (0 load, 1 hold, 2 unload), an optional group
+``channels`` (the CSM and instrument channels, SI, with ``units``), attributes ``indenter``
 and ``meta`` (JSON). `write_curve_group` fills a group of a file the caller opened (files are
 created atomically with `atomic_h5`); `read_curves` reads every curve of a file.
 
@@ -188,6 +189,11 @@ def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
         if values is not None:
             group.create_dataset(name, data=values).attrs["units"] = unit
     group.create_dataset("segment", data=curve.segment).attrs["labels"] = "0 load, 1 hold, 2 unload"
+    if curve.channels:
+        from .curves import CHANNELS
+        channels = group.create_group("channels")
+        for name, values in curve.channels.items():
+            channels.create_dataset(name, data=values).attrs["units"] = CHANNELS[name]
     group.attrs["indenter"] = curve.indenter.spec if curve.indenter else ""
     group.attrs["meta"] = json.dumps(dict(curve.meta), default=str)
 
@@ -213,9 +219,13 @@ def read_curve_group(group) -> LoadDisplacementCurve:
         meta = parse_json(meta, "the meta attribute of curve group", group.name)
     if not isinstance(meta, dict):
         raise InputError(f"curve group {group.name}: its meta attribute is not a JSON object")
+    channels = {}
+    if isinstance(group.get("channels"), h5py.Group):
+        channels = {name: _dataset(group["channels"], name) for name in group["channels"]}
     return LoadDisplacementCurve(_dataset(group, "h"), _dataset(group, "P"),
                                  _dataset(group, "t", False), _dataset(group, "segment", False),
-                                 indenter=str(group.attrs.get("indenter", "")), meta=meta)
+                                 indenter=str(group.attrs.get("indenter", "")), meta=meta,
+                                 channels=channels)
 
 
 def read_curves(path, options=None) -> dict[str, LoadDisplacementCurve]:

@@ -60,6 +60,9 @@ MISFIT_LIMIT = 0.10
 #: ... or above this many times the indents' own scatter (but never below `MISFIT_FLOOR`)
 SCATTER_FACTOR = 3.0
 MISFIT_FLOOR = 0.02
+#: a fitted area below this fraction of the ideal tip's (C0 h^2) is refused: wear and
+#: blunting add area; an area this far below the ideal pyramid's means a misplaced depth zero
+IDEAL_AREA_FRACTION = 0.8
 #: CSM points shallower than this fraction of a test's deepest point (or 10 nm) are left out:
 #: their stiffness is mostly the oscillation's noise
 CSM_MIN_DEPTH = (0.02, 10e-9)
@@ -133,6 +136,14 @@ class TipCalibration:
             what = "not positive" if A[k] <= 0 else "decreasing"
             return (f"the area function is {what} at h_c = {grid[k] * 1e9:.4g} nm, inside the "
                     f"calibrated range {lo * 1e9:.4g}-{hi * 1e9:.4g} nm")
+        ideal = np.asarray(self.area.base.area(grid), dtype=float)
+        ratio = A / ideal
+        if np.any(ratio < IDEAL_AREA_FRACTION):
+            k = int(np.argmin(ratio))
+            return (f"the area function is {1 - ratio[k]:.0%} below the ideal "
+                    f"{self.area.base.spec}'s at h_c = {grid[k] * 1e9:.4g} nm (at most "
+                    f"{1 - IDEAL_AREA_FRACTION:.0%}: a worn tip has more area, not less); the "
+                    "depth zero is likely misplaced: re-find it (--surface)")
         rms, limit = self.rms_area_error, self.misfit_limit
         if rms > limit:
             k = int(np.argmax(np.abs(self.area_error)))

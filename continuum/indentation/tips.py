@@ -409,11 +409,20 @@ def calibrate_area_function(h_c, S, *, terms=4, base=None, fix_C0=True, beta=Non
     target = np.ones_like(A)
     if fix_C0:
         c0 = base.area_coefficient
-        coef = np.linalg.lstsq(powers[:, 1:], target - c0 * powers[:, 0], rcond=None)[0]
+        coef = _scaled_lstsq(powers[:, 1:], target - c0 * powers[:, 0])
         coef = np.concatenate([[c0], coef])
     else:
-        coef = np.linalg.lstsq(powers, target, rcond=None)[0]
+        coef = _scaled_lstsq(powers, target)
     return PolynomialArea(tuple(coef), base)
+
+
+def _scaled_lstsq(M, y) -> np.ndarray:
+    """Least squares with every column scaled to unit norm first: the columns h^2/A ...
+    h^(1/128)/A span ten orders of magnitude in SI, and lstsq's cut-off of small singular
+    values would otherwise drop the terms that matter."""
+    norms = np.linalg.norm(M, axis=0)
+    norms[norms == 0] = 1.0
+    return np.linalg.lstsq(M / norms, y, rcond=None)[0] / norms
 
 
 def fit_tip_radius(h_c, S, *, half_angle=BERKOVICH_CONE, beta=BETA_TRIANGULAR,

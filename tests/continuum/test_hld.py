@@ -22,19 +22,14 @@ HLD = Path(__file__).resolve().parents[1] / "data" / "instruments" / "Exp-50mN_0
 NAME = "Exp-50mN_0000"
 
 
-def _real_file() -> Path:
-    """The committed example, or the shared copy until it is committed (then delete this)."""
-    return HLD if HLD.exists() else Path("/work/shared/data/instruments/Exp-50mN_0000.hld")
-
-
 @pytest.fixture(scope="module")
 def curve():
-    return read_hld(_real_file())[NAME]
+    return read_hld(HLD)[NAME]
 
 
 @pytest.fixture(scope="module")
 def raw() -> bytes:
-    return _real_file().read_bytes()
+    return HLD.read_bytes()
 
 
 def _write(tmp_path, data: bytes, name="test.hld") -> Path:
@@ -59,7 +54,7 @@ def test_real_file_reads_its_test_block(curve):
 def test_real_file_header_in_si(curve):
     m = curve.meta
     assert m["format"] == "hysitron-hld"
-    assert m["source"] == str(_real_file())
+    assert m["source"] == str(HLD)
     assert m["instrument"] == "Hysitron HighLoad FBControls 6.1 Release"
     assert m["time_stamp"] == "Mon Dec 03 15:13:34 2018"
     assert m["tip_name"] == "Tip"
@@ -127,7 +122,7 @@ def test_units_without_si_conversion(unit):
 
 
 def test_real_file_reads_fast():
-    path = _real_file()
+    path = HLD
     read_hld(path)
     best = min(_timed(read_hld, path) for _ in range(5))
     assert best < 0.05            # ~9 ms on the development machine

@@ -33,6 +33,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/startup.py
 	$(BIN)/python benchmarks/impact_speed_vs_error.py
 	$(BIN)/python benchmarks/indentation_speed.py
+	$(BIN)/python benchmarks/instrument_peer.py
 	$(BIN)/python benchmarks/md_overhead.py
 	$(BIN)/python benchmarks/particles_convergence.py
 	$(BIN)/python benchmarks/joint_calibration.py

@@ -131,3 +131,61 @@ def test_cycles_of_a_single_and_a_decreasing_load_test():
     # its unloading is the shallow test's (the depth offset leaves the stiffness alone)
     assert oliver_pharr(parts[1], "berkovich").S == pytest.approx(
         oliver_pharr(shallow, "berkovich").S, rel=1e-9)
+
+
+# ---- the quality gate -------------------------------------------------------------------
+
+def shifted(curves, offset):
+    """The curves with every depth larger by ``offset``: an instrument's surface-find that
+    fired ``offset`` early, the zero not re-found."""
+    return [type(c)(c.h + offset, c.P, c.t, c.segment, indenter=c.indenter, meta=c.meta)
+            for c in curves]
+
+
+def test_gate_passes_clean_reference_indents():
+    cal = calibrate_tip(reference_curves(noise=5e-4), "fused-silica", terms=3)
+    assert cal.problem() is None
+    assert cal.misfit_limit == max(0.02, min(0.10, 3 * cal.scatter))
+    # the bounds: no trial C_f leaves an indent a negative contact compliance
+    stiffest = max(oliver_pharr(part, "berkovich").S
+                   for c in reference_curves(noise=5e-4) for part in cycle_curves(c))
+    assert cal.bounds == pytest.approx((0.0, 0.95 / stiffest), rel=1e-9)
+
+
+def test_gate_refuses_a_depth_zero_65_nm_off_and_re_finding_it_passes():
+    """Fused-silica indents whose depth zero is 65 nm off: the area function absorbs much of
+    the offset (rms misfit stays 4 %) but falls 75 % below the ideal pyramid's at the
+    shallowest indent, which no real tip does; re-found (`surface.find_surface`), every
+    zero is within 0.2 nm and the calibration passes."""
+    from filmscale.continuum.indentation.surface import find_surface
+    curves = shifted(reference_curves(noise=5e-4), 65 * NM)
+    cal = calibrate_tip(curves, "fused-silica")
+    assert "below the ideal berkovich's" in cal.problem()
+    refound = [c.shifted(find_surface(c).shift) for c in curves]
+    assert all(abs(c.meta["surface_shift"] - 65 * NM) < 0.2 * NM for c in refound)
+    assert calibrate_tip(refound, "fused-silica").problem() is None
+
+
+def test_gate_refuses_a_misfit_beyond_the_scatter():
+    """Indents on two materials (fused silica and a 150 GPa film) calibrated as one reference:
+    no area function fits both, the misfit is many times the indents' own scatter."""
+    other = [synthetic_multicycle(150e9, 12e9, TRUE_AREA, frame_compliance=C_F, noise=5e-4,
+                                  seed=9, h_c=np.geomspace(40 * NM, 320 * NM, 4))]
+    cal = calibrate_tip(reference_curves(noise=5e-4) + other, "fused-silica", terms=3)
+    problem = cal.problem()
+    assert problem.startswith("rms area misfit") and "worst:" in problem
+    assert cal.rms_area_error > cal.misfit_limit
+
+
+def test_free_c0_fits_a_tip_whose_c0_is_not_the_ideal():
+    """A tip with C0 = 23.0 (6 % under the ideal 24.494): C0 fixed cannot follow it at depth;
+    --fit-c0 recovers it."""
+    tip = PolynomialArea((23.0, 800 * NM, 4000 * NM**1.5), berkovich())
+    curves = [synthetic_multicycle(E_R_SILICA, 9e9, tip, frame_compliance=C_F, seed=k,
+                                   h_c=np.geomspace(s, 8 * s, 4))
+              for k, s in enumerate((20 * NM, 30 * NM, 45 * NM))]
+    free = calibrate_tip(curves, "fused-silica", terms=3, fit_c0=True)
+    assert free.area.coefficients[0] == pytest.approx(23.0, rel=1e-3)
+    assert free.rms_area_error < 1e-3 and free.problem() is None
+    fixed = calibrate_tip(curves, "fused-silica", terms=3)
+    assert fixed.rms_area_error > 10 * free.rms_area_error

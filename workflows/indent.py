@@ -262,6 +262,10 @@ def _csm_record(curve, tip, record, flags, options: AnalysisOptions, beta, nu) -
     result = csm_analysis(curve, tip, depth_range=options.depth_range,
                           epsilon=None if options.epsilon == "tip" else options.epsilon,
                           beta=None if beta == "tip" else beta, nu=nu)
+    if options.plot_dir:
+        from .plots import plot_csm
+        plot_csm(curve, result, Path(options.plot_dir) / f"{_safe_name(record['name'])}.png",
+                 title=record["name"])
     out = {**record, **result.to_dict(), "status": result.status,
            "message": result.message, "E_r": result.E_r_mean, "E": result.E_mean,
            "H": result.H_mean, "h_c": result.h_c_mean, "tip": result.tip}

@@ -25,12 +25,13 @@ PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
 
 
 def add_parser(isub) -> None:
-    p = isub.add_parser("analyze", help="Oliver-Pharr analysis of one or many curves",
-                        description="Oliver-Pharr analysis of curve files (text with units in "
-                                    "the header, e.g. 'h [nm], P [uN], t [s]', filmscale "
-                                    "HDF5, or instrument exports: G200/iMicro .xlsx, TriboScan "
-                                    ".txt/.hld, Anton Paar and other delimited text) and of "
-                                    "every curve file inside the folders given.")
+    p = isub.add_parser("analyze", help="Oliver-Pharr or CSM analysis of one or many curves",
+                        description="Oliver-Pharr (or, with --csm, continuous-stiffness) "
+                                    "analysis of curve files (text with units in the header, "
+                                    "e.g. 'h [nm], P [uN], t [s]', filmscale HDF5, or "
+                                    "instrument exports: G200/iMicro .xls and .xlsx, Hysitron "
+                                    ".hld and TriboScan .txt, Anton Paar and other delimited "
+                                    "text) and of every curve file inside the folders given.")
     p.add_argument("files", nargs="+", metavar="FILES", help="curve files or folders")
     p.add_argument("--tip", help="berkovich, cube-corner, cone:THETA, sphere:R, "
                                  "sphero-conical:R[:THETA], flat:A (lengths in m or with nm/um); "
@@ -43,10 +44,11 @@ def add_parser(isub) -> None:
                    help="unloading fit window, fractions of P_max (default 0.2:0.98)")
     p.add_argument("--surface", default="auto",
                    metavar="auto|file|fit|load:P|stiffness:S|slope:K",
-                   help="contact point: auto (default: re-found from the loading near contact, "
-                        "kept from the file when within 1 %% of h_max), the file's zero, the "
-                        "loading power law's zero, or where the load, the CSM stiffness or "
-                        "dP/dh first exceeds a threshold (SI or with units: load:2uN)")
+                   help="contact point: auto (default: the file's zero, unless where the load "
+                        "leaves its noise and the loading power law's zero both lie beyond 1 %% "
+                        "of h_max from it), the file's zero, the loading power law's zero, or "
+                        "where the load, the CSM stiffness or dP/dh first exceeds a threshold "
+                        "(SI or with units: load:2uN)")
     p.add_argument("--csm", action="store_true",
                    help="continuous stiffness: E_r, E and H at every loading point from the "
                         "harmonic contact stiffness, and their averages over --depth-range")

@@ -327,6 +327,40 @@ def plot_curve_analysis(curve, result, path=None, title: str = "") -> Figure:
     return _done(fig, path)
 
 
+def plot_csm(curve, result, path=None, title: str = "") -> Figure:
+    """A CSM test: E (or E_r without a Poisson ratio) and H against depth, beside the
+    instrument's own Modulus and Hardness channels where the file has them, with the depth
+    range of the averages shaded; the Figure, also saved to ``path`` when given."""
+    fig, axes = _figure(1, 2, figsize=(9.6, 3.9))
+    c = curve.finite()
+    with_E = result.ok and np.isfinite(result.E).any()
+    panels = ((axes[0], result.E if with_E else result.E_r, "E_vendor",
+               "modulus E (GPa)" if with_E else "reduced modulus E_r (GPa)"),
+              (axes[1], result.H, "H_vendor", "hardness H (GPa)"))
+    for ax, ours, channel, label in panels:
+        if result.ok:
+            lo, hi = result.depth_range
+            ax.axvspan(lo * 1e9, hi * 1e9, color="0.92", lw=0,
+                       label=f"averaged: {lo * 1e9:.0f}-{hi * 1e9:.0f} nm")
+            ax.plot(result.h * 1e9, ours / 1e9, ".", ms=2.5, color="tab:blue", label="filmscale")
+            if channel in c.channels and (with_E or channel == "H_vendor"):
+                keep = np.isfinite(c.channels[channel]) & (c.h > 0)
+                ax.plot(c.h[keep] * 1e9, c.channels[channel][keep] / 1e9, "-", lw=0.9,
+                        color="tab:orange", label="the instrument's own channel")
+            inside = (result.h >= lo) & (result.h <= hi)
+            if inside.any():        # the scatter of the shallowest points would hide the rest
+                top = np.nanpercentile(ours[result.h >= lo], 99) / 1e9
+                ax.set_ylim(0, 1.3 * top if np.isfinite(top) and top > 0 else None)
+            ax.legend(fontsize=7, loc="lower right")
+        else:
+            ax.text(0.5, 0.5, f"not analysed:\n{result.message}", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=8)
+        ax.set_xlabel("depth h (nm)")
+        ax.set_ylabel(label)
+    axes[0].set_title(title, fontsize=9, loc="left")
+    return _done(fig, path)
+
+
 def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
                           indenter_compliance=0.0, title: str = "") -> Figure:
     """E_r and H against contact depth: every indent, group means with their standard

@@ -1,7 +1,8 @@
 """filmscale.continuum.indentation: load-displacement curves and what they measure.
 
 Curves and their checks (`curves`), readers and writers (`io`) and instrument exports
-(`vendors`), multi-cycle tests (`cycles`), one `Tip` type for every scale (`tips`) and its
+(`vendors`; NanoSuite workbooks `workbooks`, Hysitron files `hld`), the contact point
+(`surface`), continuous-stiffness tests (`csm`), multi-cycle tests (`cycles`), one `Tip` type for every scale (`tips`) and its
 calibration with the frame compliance on a reference (`tip_calibration`), Oliver-Pharr
 with frame compliance and the shallow-depth correction (`oliver_pharr`), spherical tips
 and pop-in (`spherical`), the Nix-Gao size effect (`size_effect`), property profiles over
@@ -26,6 +27,7 @@ _WHERE = {
     "Cone": "tips", "FlatPunch": "tips", "PolynomialArea": "tips", "Sphere": "tips",
     "SphericalCone": "tips", "Tip": "tips", "calibrate_area_function": "tips",
     "fit_tip_radius": "tips", "parse_tip": "tips",
+    "csm_analysis": "csm", "CSMResult": "csm", "find_surface": "surface",
 }
 
 __all__ = [
@@ -35,6 +37,7 @@ __all__ = [
     "calibrate_area_function", "fit_tip_radius",
     "oliver_pharr", "OliverPharrResult", "calibrate_frame_compliance", "shallow_depth_hardness",
     "hertz_fit", "detect_pop_in", "elastic_limit", "nix_gao_fit", "property_profile",
+    "csm_analysis", "CSMResult", "find_surface",
 ]
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -31,6 +31,7 @@ from filmscale.core.errors import InputError
 from filmscale.core.files import input_limit, parse_json, read_text, read_toml
 
 from .curves import LoadDisplacementCurve
+from .tips import PolynomialArea, parse_tip
 
 #: unit -> factor to SI (m, Pa, N, s)
 UNITS = {
@@ -194,8 +195,19 @@ def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
         channels = group.create_group("channels")
         for name, values in curve.channels.items():
             channels.create_dataset(name, data=values).attrs["units"] = CHANNELS[name]
-    group.attrs["indenter"] = curve.indenter.spec if curve.indenter else ""
+    group.attrs["indenter"] = _tip_text(curve.indenter)
+    if isinstance(curve.indenter, PolynomialArea):     # a calibrated tip: its polynomial too
+        group.attrs["indenter_area"] = json.dumps(
+            {"coefficients": list(curve.indenter.coefficients),
+             "h_range": list(curve.indenter.h_range) if curve.indenter.h_range else None})
     group.attrs["meta"] = json.dumps(dict(curve.meta), default=str)
+
+
+def _tip_text(tip) -> str:
+    """The text `parse_tip` reads back: a polynomial area function's nominal tip."""
+    if tip is None:
+        return ""
+    return tip.base.spec if isinstance(tip, PolynomialArea) else tip.spec
 
 
 def _dataset(group, name: str, required: bool = True):
@@ -219,13 +231,25 @@ def read_curve_group(group) -> LoadDisplacementCurve:
         meta = parse_json(meta, "the meta attribute of curve group", group.name)
     if not isinstance(meta, dict):
         raise InputError(f"curve group {group.name}: its meta attribute is not a JSON object")
+    indenter = str(group.attrs.get("indenter", ""))
+    if "indenter_area" in group.attrs:
+        area = parse_json(group.attrs["indenter_area"], "the indenter_area attribute of group",
+                          group.name)
+        if not isinstance(area, dict) or not isinstance(area.get("coefficients"), list):
+            raise InputError(f"curve group {group.name}: indenter_area holds no coefficients")
+        try:
+            indenter = PolynomialArea(tuple(area["coefficients"]),
+                                      parse_tip(indenter or "berkovich"),
+                                      tuple(area["h_range"]) if area.get("h_range") else None)
+        except (TypeError, ValueError):
+            raise InputError(f"curve group {group.name}: indenter_area is not an area "
+                             "function") from None
     channels = {}
     if isinstance(group.get("channels"), h5py.Group):
         channels = {name: _dataset(group["channels"], name) for name in group["channels"]}
     return LoadDisplacementCurve(_dataset(group, "h"), _dataset(group, "P"),
                                  _dataset(group, "t", False), _dataset(group, "segment", False),
-                                 indenter=str(group.attrs.get("indenter", "")), meta=meta,
-                                 channels=channels)
+                                 indenter=indenter, meta=meta, channels=channels)
 
 
 def read_curves(path, options=None) -> dict[str, LoadDisplacementCurve]:

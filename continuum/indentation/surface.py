@@ -15,12 +15,13 @@ here re-find the zero from the record (docs/indentation.md, "The contact point")
   where a blunted tip is still nearly self-similar over so short a range;
 - ``file``: the depth zero as the file gives it;
 - ``auto`` (the default), when the record shows the contact begin (its first points lie
-  below the load-noise threshold, five standard deviations of the load noise): where the load
-  first exceeds that threshold. When that lies within `AUTO_TOLERANCE` of the largest depth
-  from the file's zero, the file's zero stands (the instrument saw the approach; a re-found
-  zero extrapolated over a blunted tip's first nanometres is no better). Beyond it the zero
-  is misplaced, and the ``fit`` zero (no deeper than the crossing) replaces it. A record that
-  starts in contact keeps the file's zero. On the G200 exports of
+  below the load-noise threshold, five standard deviations of the load noise): the file's
+  zero is misplaced when both the depth where the load first exceeds that threshold and the
+  ``fit`` zero lie more than `AUTO_TOLERANCE` of the largest depth from it, on the same side;
+  then the ``fit`` zero (no deeper than the crossing) replaces it. Otherwise the file's zero
+  stands: noise alone moves the crossing (P ~ h^2 rises slowly from contact), a blunted tip's
+  first nanometres move the power law's zero, and the instrument saw the approach. A record
+  that starts in contact keeps the file's zero. On the G200 exports of
   tests/data/instruments (fused silica CSM, fused quartz multi-cycle) the re-found zero lies
   within a few nanometres of the instrument's, well under 1 % of h_max, so the instrument's is
   kept; a zero misplaced by 60 nm is re-found within 1 nm (tests/continuum/test_hold_and_surface.py).
@@ -107,10 +108,20 @@ def parse_surface(text) -> SurfaceSpec:
 
 
 def _loading(c: LoadDisplacementCurve) -> slice:
-    """The first loading: the points up to the first that is not labelled load (a hold or a
-    partial unloading of a multi-cycle test), or up to the largest load."""
-    left = np.flatnonzero(c.segment[:c.peak + 1] != LOAD)
-    return slice(0, int(left[0]) + 1 if left.size and left[0] > 0 else c.peak + 1)
+    """The first loading: up to the first unloading found from the loads alone
+    (`cycles.unloading_ranges`: a multi-cycle test's first cycle may peak at 1 % of the
+    largest load, where rate labels read its unloading as loading), to the first point not
+    labelled load when the labels are given, and to the largest load."""
+    from .cycles import unloading_ranges
+    end = c.peak + 1
+    ranges = unloading_ranges(c.P)
+    if ranges:
+        end = min(end, ranges[0][0] + 1)
+    if c.segments_given:
+        left = np.flatnonzero(c.segment[:end] != LOAD)
+        if left.size and left[0] > 0:
+            end = int(left[0]) + 1
+    return slice(0, end)
 
 
 def crossing(h, values, threshold: float) -> float:
@@ -174,12 +185,15 @@ def _auto(c: LoadDisplacementCurve, h, P, h_max: float) -> SurfaceFind:
         return SurfaceFind(0.0, math.nan, "file", "the load never leaves its noise: the file's "
                            "zero kept")
     where = f"the load first exceeds {threshold:.3g} N at {crossed * 1e9:.3g} nm"
-    if abs(crossed) <= AUTO_TOLERANCE * h_max:
-        return SurfaceFind(0.0, crossed, "file", f"{where}, within {AUTO_TOLERANCE:.0%} of "
-                           "h_max: the file's zero kept")
     zero, how = power_law_zero(c)
-    if not math.isfinite(zero):
-        return SurfaceFind(crossed, crossed, "auto", where)
+    tolerance = AUTO_TOLERANCE * h_max
+    # off only when both say so, the same way: noise alone moves the crossing (P ~ h^2 rises
+    # slowly), a blunted tip's first nanometres the power law's zero
+    if not (math.isfinite(zero) and abs(crossed) > tolerance and abs(zero) > tolerance
+            and zero * crossed > 0):
+        return SurfaceFind(0.0, zero if math.isfinite(zero) else crossed, "file",
+                           f"{where}; {how}: within {AUTO_TOLERANCE:.0%} of h_max, or the two "
+                           "disagree: the file's zero kept")
     found = min(zero, crossed)          # the contact began before the load left its noise
     return SurfaceFind(found, found, "auto", f"{where}; {how}")
 

@@ -31,12 +31,12 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import input_limit, shown
+from filmscale.core.files import shown
 
 from .curves import CHANNELS, HOLD, LOAD, SEGMENTS_FROM_FILE, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
-from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _is_unit_row, _pick_columns, _unit,
-                      split_name)
+from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _check_size, _is_unit_row,
+                      _pick_columns, _unit, split_name)
 
 WORKBOOK_SUFFIXES = (".xls", ".xlsx", ".xlsm")
 #: values at or above this are the instrument's invalid-value marker (DBL_MAX)
@@ -89,13 +89,7 @@ def _label(cell) -> str:
 # ---- sheets -----------------------------------------------------------------------------
 
 def _open(path: Path):
-    try:
-        size = path.stat().st_size
-    except OSError as err:
-        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
-    if size > input_limit():
-        raise InputError(f"{shown(path)} is larger than {input_limit()} bytes, the input size "
-                         "limit")
+    _check_size(path)
     if not path.is_file():
         raise InputError(f"cannot read {shown(path)}: not a regular file")
     from python_calamine import CalamineWorkbook

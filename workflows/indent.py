@@ -340,13 +340,40 @@ def shallow_depth_correction(records: list[dict], options: AnalysisOptions) -> i
     return records.index(e)
 
 
+#: a CSM test enters the depth profile as the medians of its points in this many log bins
+CSM_PROFILE_BINS = 30
+
+
+def _csm_profile_points(r: dict) -> list[tuple[float, float, float]]:
+    """(h_c, E_r, H) of one CSM record: the medians of its points in `CSM_PROFILE_BINS`
+    log-spaced bins of contact depth (a test measures the whole profile; its thousand
+    points would outweigh every other indent), from the start of its depth range, or 2 % of
+    its depth and at least 10 nm (shallower, the stiffness is mostly the oscillation's
+    noise and the tip's rounding)."""
+    h, h_c, E_r, H = (np.asarray(r["csm"][k], dtype=float) for k in ("h", "h_c", "E_r", "H"))
+    if not h.size:
+        return []
+    start = max(float(r["depth_range"][0]), 0.02 * float(h.max()), 10e-9)
+    keep = (h >= start) & np.isfinite(h_c) & (h_c > 0) & np.isfinite(E_r) & np.isfinite(H)
+    if keep.sum() < 2:
+        return []
+    h_c, E_r, H = h_c[keep], E_r[keep], H[keep]
+    edges = np.geomspace(h_c.min(), h_c.max() * (1 + 1e-12), CSM_PROFILE_BINS + 1)
+    which = np.digitize(h_c, edges) - 1
+    return [(float(np.median(h_c[which == k])), float(np.median(E_r[which == k])),
+             float(np.median(H[which == k]))) for k in np.unique(which)]
+
+
 def profile_of(records: list[dict], interfaces=(), layer_names=()):
     """Property-depth profile and Nix-Gao fit of the analysed records (None where there are
-    too few indents)."""
+    too few indents). A CSM record gives its profile over depth, not one point."""
     ok = [r for r in records if r.get("status") == 0]
-    if len(ok) < 2:
+    points = []
+    for r in ok:
+        points += _csm_profile_points(r) if r.get("csm") else [(r["h_c"], r["E_r"], r["H"])]
+    if len(points) < 2:
         return None, None
-    h_c, E_r, H = (np.array([r[k] for r in ok], dtype=float) for k in ("h_c", "E_r", "H"))
+    h_c, E_r, H = (np.array(column, dtype=float) for column in zip(*points))
     profile = property_profile(h_c, E_r, H, interfaces=interfaces, layer_names=layer_names)
     try:
         nix_gao = nix_gao_fit(profile.h_c, profile.H) if profile.group_n.size >= 3 else None

@@ -183,7 +183,9 @@ class TipCalibration:
             f"{self.h_c.max() * 1e9:.4g} nm, P_max {self.P_max.min() * 1e3:.4g} to "
             f"{self.P_max.max() * 1e3:.4g} mN",
             f"frame compliance C_f = {self.frame_compliance * 1e6:.4g} nm/mN"
-            + (f" (fitted in {self.bounds[0] * 1e6:.3g}-{self.bounds[1] * 1e6:.4g} nm/mN)"
+            + (f" (fitted in {self.bounds[0] * 1e6:.3g}-{self.bounds[1] * 1e6:.4g} nm/mN"
+               + ("; at the lower bound: the instrument may have removed the frame already"
+                  if self.frame_compliance <= self.bounds[0] else "") + ")"
                if self.fit != "area" else " (given)"),
             f"area function (h_c in nm, A in nm^2): C = [{coef}]"
             f"{' (fitted)' if self.fit != 'frame' else ' (given)'}",
@@ -299,6 +301,16 @@ def _csm_points(curve: LoadDisplacementCurve):
     return (c.h[sel], c.P[sel], S[sel]) if sel.any() else None
 
 
+def _depth_groups(indents: _Indents) -> int:
+    """How many distinct contact depths the indents span: the 10 %-wide bins of depth that
+    hold at least one (a CSM test fills every bin it crosses)."""
+    got = indents.at(0.0)
+    if got is None:
+        return len(indents)
+    h = got[0][got[0] > 0]
+    return int(np.unique(np.floor(np.log(h) / math.log(1.1))).size) if h.size else 0
+
+
 def _scatter(h_c, error) -> float:
     """Indent-to-indent scatter of the relative area residuals: the white-noise deviation
     of the residuals taken in order of depth (`core.noise.noise_sigma`), which a smooth
@@ -374,6 +386,12 @@ def calibrate_tip(curves, reference="fused-silica", *, tip="berkovich", fit="bot
         raise InputError(f"{len(indents)} reference indents cannot fit {params} parameters: "
                          f"give at least {params + 1} indents (curves, unloading cycles or "
                          "CSM points)")
+    depths = _depth_groups(indents)
+    if depths < params + 1:
+        raise InputError(f"the {len(indents)} reference indents lie at {depths} distinct "
+                         f"depth{'s' if depths > 1 else ''} (within 10 %), too few to fit "
+                         f"{params} parameters: indent at {params + 1} or more depths, use fewer "
+                         "--terms, or calibrate from CSM tests")
     E_r = reference.reduced_modulus(indenter)
 
     def solve(C_f):

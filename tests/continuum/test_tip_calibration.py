@@ -189,3 +189,15 @@ def test_free_c0_fits_a_tip_whose_c0_is_not_the_ideal():
     assert free.rms_area_error < 1e-3 and free.problem() is None
     fixed = calibrate_tip(curves, "fused-silica", terms=3)
     assert fixed.rms_area_error > 10 * free.rms_area_error
+
+
+def test_indents_at_one_depth_cannot_fit_an_area_function():
+    """FS_Calibration.xls's 16 unloadings all start from 2 um (h_c 1341-1366 nm): no area
+    function and frame compliance are identified by one depth, so the calibration says so
+    instead of fitting (it had written a decreasing area function before)."""
+    from pathlib import Path
+
+    from filmscale.continuum.indentation.io import read_curves
+    path = Path(__file__).resolve().parents[1] / "data" / "instruments" / "FS_Calibration.xls"
+    with pytest.raises(InputError, match="distinct depth.*too few to fit 4 parameters"):
+        calibrate_tip(read_curves(path).values(), "fused-silica", method="unloading")

@@ -440,3 +440,15 @@ def test_a_hostile_file_beside_a_good_one(tmp_path, capsys, name, make, why):
     assert rows["good"]["status"] == 0
     assert rows["good"]["E_r"] == pytest.approx(69.6e9, rel=1e-6)
     assert math.isfinite(rows["good"]["H"])
+
+
+def test_csm_plots_one_figure_per_test(tmp_path, capsys):
+    """--csm --plot DIR: E and H against depth beside the instrument's channels, one PNG per
+    test (looked at: docs/indentation.md, the CSM section)."""
+    plots = tmp_path / "plots"
+    code, _, err = _run(["indent", "analyze", DATA / "Example.xls", "--csm", "--area-file",
+                         "file", "--plot", plots], capsys)
+    assert code == 0, err
+    files = sorted(p.name for p in plots.iterdir())
+    assert files == ["Example_Test_001.png", "Example_Test_002.png", "profile.png"]
+    assert all((plots / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for f in files)

@@ -45,7 +45,7 @@ def add_parser(isub) -> None:
     p.add_argument("--surface", default="auto",
                    metavar="auto|file|fit|load:P|stiffness:S|slope:K",
                    help="contact point: auto (default: the file's zero, unless where the load "
-                        "leaves its noise and the loading power law's zero both lie beyond 1 %% "
+                        "leaves its noise and the loading power law's zero both lie beyond 2 %% "
                         "of h_max from it), the file's zero, the loading power law's zero, or "
                         "where the load, the CSM stiffness or dP/dh first exceeds a threshold "
                         "(SI or with units: load:2uN)")
@@ -133,8 +133,9 @@ def _depth_range_arg(text: str) -> tuple[float, float]:
         if len(parts) != 2:
             raise InputError(f"--depth-range {text!r} must be LOW:HIGH, e.g. 100nm:200nm")
         lo, hi = (parse_length(v.strip(), "--depth-range depth") for v in parts)
-        lo = check_real("--depth-range start", lo, low=0.0, unit="m")
-        return lo, check_real("--depth-range end", hi, low=lo, low_open=True, unit="m")
+        lo = check_real("--depth-range start", lo, low=0.0, high=1e-3, unit="m")
+        return lo, check_real("--depth-range end", hi, low=lo, high=1e-3, low_open=True,
+                              unit="m")
     except InputError as err:
         raise argparse.ArgumentTypeError(str(err)) from None
 

@@ -42,6 +42,8 @@ NOISE_SIGMAS = 4.0
 UNLOADING_MIN_DROP = 0.1
 #: a hold before an unloading sheds load at under this fraction of the unloading's rate
 HOLD_SLOPE_RATIO = 0.35
+#: ... and the break between them must lower the squared residual by this F ratio
+BREAK_F = 25.0
 #: meta["segment_source"] of a curve whose labels an instrument file gave (markers, segments)
 SEGMENTS_FROM_FILE = "file"
 #: ... or that `cycles.cycle_curves` cut at a cycle's unloading start: labels to keep as given
@@ -185,6 +187,11 @@ class LoadDisplacementCurve:
         return self.meta.get("segment_source") in (SEGMENTS_FROM_FILE, SEGMENTS_FROM_CYCLE)
 
     def unloading(self) -> slice:
+        """Index range of the unloading that starts from the peak load (`_unloading`)."""
+        return self._unloading
+
+    @cached_property
+    def _unloading(self) -> slice:
         """Index range of the unloading that starts from the peak load.
 
         The first unload run after the largest load that sheds at least 10 % of it (shorter
@@ -374,9 +381,10 @@ def unloading_start(P, t, top: int, stop: int) -> int:
     first point and a rate filter smears its end. Between ``top`` and the point where the load
     has fallen half-way to its lowest value before ``stop``, two straight lines P(t) are fitted
     on either side of every break point; the break that leaves the least squared residual
-    ends the hold when the first line sheds load at under `HOLD_SLOPE_RATIO` of the second's
-    rate (and holds at least 3 points). Otherwise the unloading starts at ``top``. Without
-    times the sample index stands in for time.
+    ends the hold when it explains far more than the noise (an F ratio over `BREAK_F` against
+    one line) and the first line sheds load at under `HOLD_SLOPE_RATIO` of the second's rate
+    (at least 3 points before it, 5 after). Otherwise the unloading starts at ``top``.
+    Without times the sample index stands in for time.
     """
     P = np.asarray(P, dtype=float)
     part = P[top:stop]
@@ -393,12 +401,18 @@ def unloading_start(P, t, top: int, stop: int) -> int:
     y = part[:end]
     left = _prefix_line_sse(x, y)                     # lines through points 0..k
     right = _prefix_line_sse(x[::-1], y[::-1])[::-1]  # lines through points k..end-1
-    k = np.arange(2, end - 3)                         # at least 3 points on each side
+    k = np.arange(2, end - 5)                         # 3 points in the hold, 5 after it
     if k.size == 0:
         return top
-    best = int(k[np.argmin(left[k] + right[k])])
+    two = left[k] + right[k]
+    best = int(np.argmin(two))
+    # the break must explain far more than noise does (an F ratio of the two-line fit
+    # against one line; noise alone, at its best break, stays under 10)
+    one = float(left[end - 1])
+    significant = one - two[best] > BREAK_F * 2.0 * two[best] / max(end - 4, 1)
+    best = int(k[best])
     hold, unload = _slope(x[:best + 1], y[:best + 1]), _slope(x[best:], y[best:])
-    if unload < 0 and abs(hold) < HOLD_SLOPE_RATIO * abs(unload):
+    if significant and unload < 0 and abs(hold) < HOLD_SLOPE_RATIO * abs(unload):
         return top + best
     return top
 

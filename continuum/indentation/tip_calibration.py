@@ -118,6 +118,19 @@ class TipCalibration:
     def rms_area_error(self) -> float:
         return float(np.sqrt(np.mean(self.area_error**2)))
 
+    def stiffness_squared_over_load(self) -> tuple[float, float]:
+        """(mean of S^2/P over the deeper half of the indents, Pa; its trend per doubling of
+        depth, as a fraction of the mean): on a homogeneous reference S^2/P = 4 beta^2
+        E_r^2 / (pi H) is independent of the area, so a trend left in it is frame compliance
+        (or a depth-dependent hardness) that the fit did not take out; NanoSuite's CSM tip
+        calibration reads the frame from the same ratio."""
+        deep = self.h_c >= np.median(self.h_c)
+        ratio = self.S[deep]**2 / self.P_max[deep]
+        if ratio.size < 3 or np.ptp(np.log(self.h_c[deep])) == 0:
+            return float(np.mean(ratio)) if ratio.size else math.nan, math.nan
+        slope = np.polyfit(np.log2(self.h_c[deep]), ratio, 1)[0]
+        return float(np.mean(ratio)), float(slope / np.mean(ratio))
+
     @property
     def misfit_limit(self) -> float:
         """The rms misfit the gate accepts: `SCATTER_FACTOR` times the scatter, at least
@@ -166,6 +179,8 @@ class TipCalibration:
                 "area_error": self.area_error.tolist(), "rms_area_error": self.rms_area_error,
                 "scatter": self.scatter, "misfit_limit": self.misfit_limit,
                 "problem": self.problem(),
+                "stiffness_squared_over_load": dict(zip(
+                    ("mean", "trend_per_doubling"), self.stiffness_squared_over_load())),
                 "left_out": [{"name": n, "reason": r} for n, r in self.left_out]}
 
     def coefficients_in(self, length_unit: str = "nm") -> list[float]:
@@ -191,6 +206,10 @@ class TipCalibration:
             f"{' (fitted)' if self.fit != 'frame' else ' (given)'}",
             f"rms area misfit {100 * self.rms_area_error:.3g} % (indent-to-indent scatter "
             f"{100 * self.scatter:.3g} %, limit {100 * self.misfit_limit:.3g} %)"]
+        mean, trend = self.stiffness_squared_over_load()
+        if math.isfinite(trend):
+            lines.append(f"S^2/P over the deeper half: {mean / 1e9:.4g} GPa, trend "
+                         f"{100 * trend:+.2g} % per doubling of depth (flat: the frame is out)")
         lines += [f"left out {name}: {reason}" for name, reason in self.left_out]
         return "\n".join(lines)
 

@@ -178,15 +178,20 @@ def test_self_calibrated_area_gives_fused_silica_72_gpa(fs_curves):
 def test_multicycle_stiffness_matches_the_instruments_per_cycle_results():
     """FQ.xls: ten tests of five load-unload cycles; the unloading stiffness of every cycle
     within 1.5 % of the instrument's own (Results sheet, rows 1-1 ... 10-5; measured: 0.8 % at
-    most), which needs every cycle's unloading to start at its marker, after the hold."""
+    most), which needs every cycle's unloading to start at its marker, after the hold; and
+    S^2/P, which needs no area function, within 2.5 % of the instrument's (its `PoverS2`
+    column, GPa; measured: 1.7 % at most)."""
     rows = sheet(DATA / "FQ.xls", "Results")
     stiffness = {r[0]: r[7] for r in rows[2:] if "-" in str(r[0])}
+    ratio = {r[0]: r[8] * 1e9 for r in rows[2:] if "-" in str(r[0])}
+    assert rows[0][8] == "PoverS2" and rows[1][8] == "GPa"
     for test, curve in read_curves(DATA / "FQ.xls").items():
         results = analyse_cycles(curve, "berkovich")
         assert len(results) == 5
         k = int(test.split()[-1])
         for j, result in enumerate(results, start=1):
             assert result.S == pytest.approx(stiffness[f"{k}-{j}"], rel=0.015), (test, j)
+            assert result.S**2 / result.P_max == pytest.approx(ratio[f"{k}-{j}"], rel=0.025)
 
 
 def test_drift_hold_recognised_after_the_instruments_correction(fs_curves):
@@ -263,3 +268,15 @@ def test_channels_in_units_not_known_are_dropped_with_one_note(tmp_path):
     assert curve.h[5] == pytest.approx(5e-9) and curve.P[5] == pytest.approx(5e-5)
     assert curve.meta["dropped_channels"] == ["Phase Angle [deg]", "Curvature [1/nm]",
                                               "Contact Area [nm^2]"]
+
+
+def test_calibration_reports_s2_over_p_as_the_instrument_measures_it():
+    """S^2/P needs no area function: the calibration's mean over the deeper half of the
+    FQ.xls cycles against the mean of the instrument's own `PoverS2` for those cycles
+    (within 2 %), and flat with depth once the frame is out (under 3 % per doubling)."""
+    rows = sheet(DATA / "FQ.xls", "Results")
+    cal = calibrate_tip(read_curves(DATA / "FQ.xls").values(), "fused-silica")
+    mean, trend = cal.stiffness_squared_over_load()
+    deep = [r[8] * 1e9 for r in rows[2:] if str(r[0]).endswith(("-3", "-4", "-5"))]
+    assert mean == pytest.approx(np.mean(deep), rel=0.02)
+    assert abs(trend) < 0.03

@@ -275,7 +275,6 @@ def _csm_record(curve, tip, record, flags, options: AnalysisOptions, beta, nu) -
     if result.ok and (flag := _extrapolated(tip, averaged)):
         extra.append(flag)
     if result.ok and result.n_range == 0:
-        lo, hi = result.depth_range
         extra.append(CurveFlag("depth_range_empty", f"no analysed point between "
                                f"{lo * 1e9:.4g} and {hi * 1e9:.4g} nm"))
     return _with_flags(out, extra)

@@ -188,6 +188,9 @@ def _analysis_options(args):
                          "with --cycles or --shallow-correction")
     if args.csm and args.beta in ("hay", "no-slip"):
         raise InputError(f"--csm takes a numeric --beta, not {args.beta}")
+    if args.csm and args.epsilon == "exponent":
+        raise InputError("--csm takes the tip's or a numeric --epsilon: a CSM point has no "
+                         "unloading exponent to derive it from")
     if args.depth_range and not args.csm:
         raise InputError("--depth-range is the depth range of the CSM averages: give --csm")
     if args.shallow_correction and from_file:

@@ -206,10 +206,19 @@ class LoadDisplacementCurve:
             if label == UNLOAD and stop > peak + 1:
                 begin = max(start - 1, peak)
                 if P_max - np.nanmin(self.P[begin:stop]) >= UNLOADING_MIN_DROP * abs(P_max):
-                    if not self.segments_given or start <= peak:
-                        begin = unloading_start(self.P, self.t, peak, stop)
-                    return slice(begin, stop)
+                    top = begin if self.segments_given else peak
+                    return slice(self.unloading_begin(top, stop), stop)
         return slice(0, 0)
+
+    def unloading_begin(self, top: int, stop: int) -> int:
+        """Where the unloading after the load peak at ``top`` begins: the point before the
+        first unload label when the labels are given (an instrument's markers, a cut cycle),
+        else `unloading_start`, after a hold however its load sags."""
+        if self.segments_given:
+            marked = np.flatnonzero(self.segment[top:stop] == UNLOAD)
+            if marked.size:
+                return top + max(int(marked[0]) - 1, 0)
+        return unloading_start(self.P, self.t, top, stop)
 
     def loading(self) -> slice:
         """Everything before the unloading from the peak (loading and the hold at peak)."""
@@ -368,12 +377,6 @@ def _prefix_line_sse(x, y) -> np.ndarray:
     return np.maximum(sse, 0.0)
 
 
-def _slope(x, y) -> float:
-    dx = x - x.mean()
-    sxx = float(dx @ dx)
-    return float(dx @ (y - y.mean())) / sxx if sxx > 0 else 0.0
-
-
 def unloading_start(P, t, top: int, stop: int) -> int:
     """Index where an unloading that follows the load peak at ``top`` begins.
 
@@ -411,7 +414,7 @@ def unloading_start(P, t, top: int, stop: int) -> int:
     one = float(left[end - 1])
     significant = one - two[best] > BREAK_F * 2.0 * two[best] / max(end - 4, 1)
     best = int(k[best])
-    hold, unload = _slope(x[:best + 1], y[:best + 1]), _slope(x[best:], y[best:])
+    hold, unload = _line(x[:best + 1], y[:best + 1])[1], _line(x[best:], y[best:])[1]
     if significant and unload < 0 and abs(hold) < HOLD_SLOPE_RATIO * abs(unload):
         return top + best
     return top

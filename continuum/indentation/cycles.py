@@ -18,8 +18,8 @@ from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
 
-from .curves import (HOLD, LOAD, SEGMENTS_FROM_CYCLE, SEGMENTS_FROM_FILE, UNLOAD,
-                     UNLOADING_MIN_DROP, LoadDisplacementCurve, unloading_start)
+from .curves import (HOLD, LOAD, SEGMENTS_FROM_CYCLE, UNLOAD, UNLOADING_MIN_DROP,
+                     LoadDisplacementCurve)
 from .oliver_pharr import OliverPharrResult, oliver_pharr
 from .tips import Tip, parse_tip
 
@@ -54,26 +54,16 @@ def unloading_ranges(P, drop: float = UNLOADING_MIN_DROP) -> list[tuple[int, int
     return out
 
 
-def _cycle_start(c: LoadDisplacementCurve, top: int, stop: int) -> int:
-    """Where the unloading of the cycle peaking at ``top`` begins: at the file's unload marker
-    when the instrument labelled the points, else after the hold at the peak
-    (`curves.unloading_start`), however its load sags."""
-    if c.meta.get("segment_source") == SEGMENTS_FROM_FILE:
-        marked = np.flatnonzero(c.segment[top:stop] == UNLOAD)
-        if marked.size:
-            return top + max(int(marked[0]) - 1, 0)
-    return unloading_start(c.P, c.t, top, stop)
-
-
 def cycle_curves(curve: LoadDisplacementCurve) -> list[LoadDisplacementCurve]:
     """One curve per unloading cycle: the loading envelope up to the cycle's peak (labelled
     load and hold) and the cycle's unloading (labelled unload); one curve for a
     single-cycle test. Unloadings are found from the loads alone (`unloading_ranges`); a
-    hold at the peak stays before the unloading, however its load sags (`_cycle_start`)."""
+    hold at the peak stays before the unloading, however its load sags
+    (`LoadDisplacementCurve.unloading_begin`)."""
     c = curve.finite()
     out, begin = [], 0
     for top, stop in unloading_ranges(c.P):
-        top = _cycle_start(c, top, stop)
+        top = c.unloading_begin(top, stop)
         # from the start when this cycle goes highest so far, else from its own reloading;
         # the loading keeps its envelope (points at the deepest depth so far), so earlier
         # unload-reload loops are not read as a loading that falls back

@@ -32,6 +32,8 @@ from filmscale.core.files import input_limit, shown
 
 from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
+from .vendors import micro_sign as _micro
+from .vendors import si_unit
 
 FORMAT = "hysitron-hld"
 MAGIC = "File Version: Hysitron"
@@ -43,39 +45,8 @@ WINDOW_SLACK = 0.5
 #: every window, or its point counts differ from the data's by more than this fraction
 SEGMENT_MISMATCH = 0.1
 
-#: base units -> (factor to SI, dimension): L length (m), F force (N), T time (s), V volts
-_BASE_UNITS = {
-    "m": (1.0, "L"), "mm": (1e-3, "L"), "µm": (1e-6, "L"), "nm": (1e-9, "L"),
-    "N": (1.0, "F"), "mN": (1e-3, "F"), "µN": (1e-6, "F"), "nN": (1e-9, "F"),
-    "s": (1.0, "T"), "ms": (1e-3, "T"), "V": (1.0, "V"), "mV": (1e-3, "V"),
-}
 _BLOCK = re.compile(r"^(.*?)\s*Data Points:\s*(\S*)\s*$")
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
-
-
-def _micro(text: str) -> str:
-    """The Greek mu and an ASCII ``u`` before a unit letter made the micro sign."""
-    text = text.replace("\u03bc", "\u00b5")
-    return re.sub(r"(?<![A-Za-z])u(?=[mN]\b)", "\u00b5", text)
-
-
-def si_unit(unit: str) -> tuple[float, dict[str, float]] | None:
-    """(factor to SI, dimensions) of a header unit such as ``nm``, ``nm/µN`` or
-    ``nm^2/nm^0.5``; None for units without an SI conversion here (``deg``, ``%``, ``Hz``,
-    text). The one place where the file's units become SI."""
-    parts = _micro(unit.strip()).split("/")
-    if not unit.strip() or len(parts) > 2:
-        return None
-    factor, dims = 1.0, {}
-    for sign, part in zip((1.0, -1.0), parts):
-        base, _, power = part.strip().partition("^")
-        if base not in _BASE_UNITS or (power and not _NUMBER.match(power)):
-            return None
-        p = sign * (float(power) if power else 1.0)
-        scale, dim = _BASE_UNITS[base]
-        factor *= scale ** p
-        dims[dim] = dims.get(dim, 0.0) + p
-    return factor, {d: p for d, p in dims.items() if p != 0.0}
 
 
 def _value(text: str):

@@ -30,8 +30,8 @@ import numpy as np
 from filmscale.core.errors import InputError
 from filmscale.core.files import input_limit, parse_json, read_text, read_toml
 
-from .curves import LoadDisplacementCurve
-from .tips import PolynomialArea, parse_tip
+from .curves import CHANNELS, LoadDisplacementCurve
+from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich, parse_tip
 
 #: unit -> factor to SI (m, Pa, N, s)
 UNITS = {
@@ -191,7 +191,6 @@ def write_curve_group(group, curve: LoadDisplacementCurve) -> None:
             group.create_dataset(name, data=values).attrs["units"] = unit
     group.create_dataset("segment", data=curve.segment).attrs["labels"] = "0 load, 1 hold, 2 unload"
     if curve.channels:
-        from .curves import CHANNELS
         channels = group.create_group("channels")
         for name, values in curve.channels.items():
             channels.create_dataset(name, data=values).attrs["units"] = CHANNELS[name]
@@ -315,8 +314,6 @@ def read_area_function(path, base=None):
     unit, optional) the contact depths they were calibrated on. ``base`` is the nominal tip
     (Berkovich when None).
     """
-    from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich
-
     path = Path(path)
     data = read_toml(path, "area file")
     coef = data.get("C")

@@ -46,6 +46,7 @@ from .curves import LOAD, LoadDisplacementCurve, _derivative_kernel
 SURFACE_METHODS = ("auto", "file", "load", "stiffness", "slope", "fit")
 #: the unit of each threshold
 THRESHOLD_UNITS = {"load": "N", "stiffness": "N/m", "slope": "N/m"}
+THRESHOLD_EXAMPLES = {"load": "2uN", "stiffness": "500N/m", "slope": "1000N/m"}
 #: ``auto`` keeps the file's zero when the re-found one lies within this fraction of h_max
 AUTO_TOLERANCE = 0.02
 #: ... and when it lies within this many times its own uncertainty of it
@@ -102,7 +103,7 @@ def parse_surface(text) -> SurfaceSpec:
         return SurfaceSpec(method)
     if not value.strip():
         raise InputError(f"--surface {text!r}: {method} needs a threshold, e.g. "
-                         f"{method}:{ {'load': '2uN', 'stiffness': '500N/m', 'slope': '1000N/m'}[method]}")
+                         f"{method}:{THRESHOLD_EXAMPLES[method]}")
     from filmscale.core.quantities import to_si
     threshold = to_si(f"--surface {method} threshold", value.strip(), THRESHOLD_UNITS[method])
     if not (math.isfinite(threshold) and threshold > 0):
@@ -147,7 +148,7 @@ def crossing(h, values, threshold: float) -> float:
     return float(h[i - 1] + min(max(f, 0.0), 1.0) * (h[i] - h[i - 1]))
 
 
-def _slope(h, P) -> np.ndarray:
+def _dP_dh(h, P) -> np.ndarray:
     """dP/dh from 7-point least-squares slopes of P and h against the sample index."""
     kernel = _derivative_kernel(7)
     if h.size < 7:
@@ -198,8 +199,8 @@ def _auto(c: LoadDisplacementCurve, h, P, h_max: float) -> SurfaceFind:
     # off only when both say so, the same way, and the zero stands clear of its own error:
     # noise alone moves the crossing (P ~ h^2 rises slowly), a blunted tip's first
     # nanometres the power law's zero
-    if not (math.isfinite(zero) and abs(crossed) > tolerance
-            and abs(zero) > max(tolerance, AUTO_ERRORS * error) and zero * crossed > 0):
+    if not (math.isfinite(zero) and abs(zero) > max(tolerance, AUTO_ERRORS * error)
+            and zero * crossed > 0):
         return SurfaceFind(0.0, zero if math.isfinite(zero) else crossed, "file",
                            f"{where}; {how}: within {AUTO_TOLERANCE:.0%} of h_max, or the two "
                            "disagree: the file's zero kept")
@@ -248,7 +249,7 @@ def find_surface(curve: LoadDisplacementCurve, spec="auto") -> SurfaceFind:
                              "channel, which this curve lacks")
         values = c.channels["S"][part]
     elif spec.method == "slope":
-        values = _slope(h, P)
+        values = _dP_dh(h, P)
     else:
         values = P
     found = crossing(h, values, spec.threshold)

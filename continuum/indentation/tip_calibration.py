@@ -245,7 +245,7 @@ class _Indents:
     def __init__(self, curves, method: str, window, tip, names=None):
         self.tip, self.window, self.method = tip, window, method
         self.parts, self.names, self.left_out = [], [], []
-        points = []
+        points, measured = [], []
         for k, curve in enumerate(curves):
             if not isinstance(curve, LoadDisplacementCurve):
                 raise InputError(f"reference curve {k} is not a LoadDisplacementCurve")
@@ -267,11 +267,17 @@ class _Indents:
                 if result.ok and result.S > 0:
                     self.parts.append(part)
                     self.names.append(label)
+                    measured.append((result.h_c, result.S, result.P_max))
                 else:
                     self.left_out.append((label, result.message or "no positive stiffness"))
         if method == "csm":
             self.h, self.P, self.S_measured = (np.concatenate([p[i] for p in points])
                                                if points else np.empty(0) for i in range(3))
+        else:       # the unloadings as fitted: the trial C_f = 0, kept rather than refitted
+            self.S_measured = np.array([m[1] for m in measured], dtype=float)
+            h_c, S, P = (np.array(v, dtype=float) for v in zip(*measured)) if measured \
+                else (np.empty(0),) * 3
+            self._unframed = (h_c, S, P) if np.all(h_c > 0) else None
         self.names = tuple(self.names)
 
     def __len__(self) -> int:
@@ -279,10 +285,7 @@ class _Indents:
 
     def stiffest(self) -> float:
         """The largest measured stiffness (frame included), N/m."""
-        if self.method == "csm":
-            return float(self.S_measured.max())
-        return max(oliver_pharr(p, self.tip, window=self.window, check=False).S
-                   for p in self.parts)
+        return float(self.S_measured.max())
 
     def at(self, C_f: float):
         """(h_c, S, P) of every indent with C_f removed; None when any indent cannot be
@@ -294,6 +297,8 @@ class _Indents:
             h_c = self.h - C_f * self.P - self.tip.epsilon * self.P / S
             ok = np.all(inverse > 0) and np.all(h_c > 0)
             return (h_c, S, self.P) if ok else None
+        if C_f == 0:
+            return self._unframed
         out = []
         for part in self.parts:
             result = oliver_pharr(part.frame_corrected(C_f) if C_f else part, self.tip,

@@ -35,6 +35,8 @@ from .curves import LoadDisplacementCurve
 
 FORMATS = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
 EXCEL_SUFFIXES = (".xls", ".xlsx", ".xlsm")
+#: bytes of a ``.hld`` read to tell its layout (the real header is about 6 kB)
+HLD_HEAD_BYTES = 1 << 16
 #: what each named format fixes before the rest is found from the file
 PRESETS = {
     "hysitron": {"encoding": "latin-1", "separator": "\t"},
@@ -60,6 +62,46 @@ _KNOWN_UNITS = {u for units in ROLE_UNITS.values() for u in units} | {
     "N/m", "GPa", "MPa", "Pa", "V", "mV", "nm/s", "mN/s", "uN/s", "µN/s", "1/s", "%", "-", "1",
     "Hz", "°C", "C", "K"}
 _NAME_UNIT = re.compile(r"^(.*?)\s*(?:\[([^\]]*)\]|\(([^)]*)\))\s*$")
+
+
+#: base units -> (factor to SI, dimensions): L length (m), F force (N), T time (s), V volts
+_BASE_UNITS = {
+    "m": (1.0, {"L": 1}), "mm": (1e-3, {"L": 1}), "µm": (1e-6, {"L": 1}),
+    "nm": (1e-9, {"L": 1}), "A": (1e-10, {"L": 1}), "Å": (1e-10, {"L": 1}),
+    "N": (1.0, {"F": 1}), "kN": (1e3, {"F": 1}), "mN": (1e-3, {"F": 1}),
+    "µN": (1e-6, {"F": 1}), "nN": (1e-9, {"F": 1}),
+    "Pa": (1.0, {"F": 1, "L": -2}), "kPa": (1e3, {"F": 1, "L": -2}),
+    "MPa": (1e6, {"F": 1, "L": -2}), "GPa": (1e9, {"F": 1, "L": -2}),
+    "s": (1.0, {"T": 1}), "ms": (1e-3, {"T": 1}), "min": (60.0, {"T": 1}),
+    "V": (1.0, {"V": 1}), "mV": (1e-3, {"V": 1}),
+}
+_POWER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
+
+
+def micro_sign(text: str) -> str:
+    """The Greek mu and an ASCII ``u`` before a unit letter made the micro sign."""
+    text = text.replace("\u03bc", "\u00b5")
+    return re.sub(r"(?<![A-Za-z])u(?=[mN]\b)", "\u00b5", text)
+
+
+def si_unit(unit: str) -> tuple[float, dict[str, float]] | None:
+    """(factor to SI, dimensions) of a unit as instruments write them: ``nm``, ``mN``,
+    ``GPa``, ``N/m``, ``nm/µN``, ``nm^2/nm^0.5``; None for units without an SI conversion
+    here (``deg``, ``%``, ``Hz``, text). The one place where the readers' units become SI."""
+    parts = micro_sign(str(unit).strip()).split("/")
+    if not str(unit).strip() or len(parts) > 2:
+        return None
+    factor, dims = 1.0, {}
+    for sign, part in zip((1.0, -1.0), parts):
+        base, _, power = part.strip().partition("^")
+        if base not in _BASE_UNITS or (power and not _POWER.match(power)):
+            return None
+        p = sign * (float(power) if power else 1.0)
+        scale, base_dims = _BASE_UNITS[base]
+        factor *= scale ** p
+        for dim, q in base_dims.items():
+            dims[dim] = dims.get(dim, 0.0) + q * p
+    return factor, {d: p for d, p in dims.items() if p != 0.0}
 
 
 def _unit(text) -> str:
@@ -396,12 +438,14 @@ def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadD
 def _hld_layout(path: Path) -> bool:
     """True for the layout TriboScan writes to ``.hld``: a ``File Version: Hysitron`` header
     and data blocks each opened by a ``... Data Points: N`` line (a text export with one
-    header line is read as delimited text)."""
+    header line is read as delimited text). Only the header is read: its first block opens
+    within the first few kilobytes."""
     _check_size(path)
     if not path.is_file():
         raise InputError(f"cannot read {shown(path)}: not a regular file")
     try:
-        data = path.read_bytes()
+        with open(path, "rb") as f:
+            head = f.read(HLD_HEAD_BYTES)
     except OSError as err:
         raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
-    return data.startswith(b"File Version: Hysitron") and b"Data Points:" in data
+    return head.startswith(b"File Version: Hysitron") and b"Data Points:" in head

@@ -36,7 +36,7 @@ from filmscale.core.files import shown
 from .curves import CHANNELS, HOLD, LOAD, SEGMENTS_FROM_FILE, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
 from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _check_size, _is_unit_row,
-                      _pick_columns, _unit, split_name)
+                      _pick_columns, _unit, si_unit, split_name)
 
 WORKBOOK_SUFFIXES = (".xls", ".xlsx", ".xlsm")
 #: values at or above this are the instrument's invalid-value marker (DBL_MAX)
@@ -54,20 +54,25 @@ CHANNEL_NAMES = {
     "hardness": "H_vendor",
     "modulus": "E_vendor",
 }
-#: unit -> factor to SI, by SI unit of a channel or summary value
-SI_UNITS = {
-    "N/m": {"N/m": 1.0, "mN/nm": 1e6, "uN/nm": 1e3, "µN/nm": 1e3, "mN/um": 1e3, "mN/µm": 1e3,
-            "kN/m": 1e3},
-    "m": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9, "A": 1e-10, "Å": 1e-10},
-    "N": {"N": 1.0, "mN": 1e-3, "uN": 1e-6, "µN": 1e-6, "nN": 1e-9},
-    "Pa": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9},
-    "m/s": {"m/s": 1.0, "um/s": 1e-6, "µm/s": 1e-6, "nm/s": 1e-9},
-    "s": {"s": 1.0, "ms": 1e-3, "min": 60.0},
-}
+#: dimensions of each SI unit a channel or summary value is read in (`vendors.si_unit`)
+SI_DIMENSIONS = {"N/m": {"F": 1.0, "L": -1.0}, "m": {"L": 1.0}, "N": {"F": 1.0},
+                 "Pa": {"F": 1.0, "L": -2.0}, "m/s": {"L": 1.0, "T": -1.0}, "s": {"T": 1.0}}
+#: units of channels knowingly passed over (dimensionless, frequencies, fractions)
+PASSED_UNITS = {None, "", "Hz", "1/s", "%"}
+
+
+def _readable(unit: str) -> bool:
+    """True for a unit of a kind the reader reads (a length, force, stress, stiffness, time
+    or rate): a channel in it is passed over knowingly, not dropped as unknown."""
+    got = si_unit(unit)
+    return got is not None and got[1] in SI_DIMENSIONS.values()
 
 
 def _factor(si: str, unit: str | None) -> float | None:
-    return SI_UNITS[si].get(unit or "") if unit is not None else None
+    """The factor that takes ``unit`` to the SI unit ``si``; None when it is of another kind
+    or not known."""
+    got = si_unit(unit) if unit else None
+    return got[0] if got is not None and got[1] == SI_DIMENSIONS[si] else None
 
 
 def _number(value) -> float:
@@ -221,7 +226,7 @@ def sheet_curve(rows, options: ReadOptions, source, meta) -> LoadDisplacementCur
             values = _column(body, k) * factor
             if np.isfinite(values).any():      # a channel the export left blank is none
                 channels[channel] = values
-        elif channel or units[k] not in _READ_UNITS:
+        elif channel or not (units[k] in PASSED_UNITS or _readable(units[k])):
             dropped.append(f"{names[k]} [{units[k] or 'no unit'}]")
     keep = np.isfinite(data["h"]) & np.isfinite(data["P"])
     if keep.sum() < 2:
@@ -258,10 +263,6 @@ def _hold_tails(codes: np.ndarray, P: np.ndarray) -> np.ndarray:
             tail = slice(start + steady[-1] + 1, stop)
             codes[tail] = np.where(P[tail] < level, UNLOAD, LOAD)
     return codes
-
-
-#: units of the channels a sheet may hold that are read or knowingly passed over
-_READ_UNITS = {u for table in SI_UNITS.values() for u in table} | {None, "", "Hz", "1/s", "%"}
 
 
 # ---- summary sheets ---------------------------------------------------------------------

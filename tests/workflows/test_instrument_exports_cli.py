@@ -452,3 +452,11 @@ def test_csm_plots_one_figure_per_test(tmp_path, capsys):
     files = sorted(p.name for p in plots.iterdir())
     assert files == ["Example_Test_001.png", "Example_Test_002.png", "profile.png"]
     assert all((plots / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for f in files)
+
+
+def test_csm_refuses_an_epsilon_from_the_unloading_exponent(capsys):
+    """A CSM point has no unloading to fit: --epsilon exponent exits 2 before any work."""
+    code, out, err = _run(["indent", "analyze", FS, "--csm", "--area-file", "file",
+                           "--epsilon", "exponent"], capsys)
+    assert code == 2 and out == ""
+    assert len(_error_lines(err)) == 1 and "--epsilon" in err and "Traceback" not in err

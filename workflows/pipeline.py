@@ -123,7 +123,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
                                      s.exclude) for s in sources]
         say(cal.summary() + "".join(f"\n  {c.text()}" for c in checks[k]))
     materials = {k: c.material() for k, c in calibrations.items()}
-    h_star = {k: c.h_star.value for k, c in calibrations.items() if c.h_star is not None}
+    h_star = {k: c.h_star.value for k, c in calibrations.items()
+              if c.h_star is not None and math.isfinite(c.h_star.value)}
     plan = plan_scene(pipeline, materials, h_star)
     scene = pipeline.completed(materials, h_star)
     say("plan:\n" + plan.text())

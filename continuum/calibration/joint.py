@@ -38,12 +38,14 @@ import numpy as np
 from filmscale.continuum.contact.laws import ContactLaw, contact_law
 from filmscale.continuum.indentation.reverse.dao import dao_forward
 from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
+from filmscale.continuum.indentation.size_effect import depth_trend
 from filmscale.continuum.indentation.spherical import loading_points
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
-from .sharp import MIN_REL_STD, StrengthPoint, nix_gao_strengths, sharp_strength_points
+from .sharp import (MIN_REL_STD, StrengthPoint, h_star_parameter, nix_gao_strengths,
+                    sharp_strength_points)
 from .sphere import sphere_radius
 from .target import SphereTarget
 
@@ -187,7 +189,7 @@ def _start(points) -> tuple[float, float]:
     constant where it has none."""
     try:
         fit = nix_gao_strengths(points)
-        return fit.H0, max(fit.h_star, 0.0)
+        return fit.H0, fit.h_star if fit.identified else 0.0
     except InputError:
         return float(np.median([p.sigma_y for p in points])), 0.0
 
@@ -226,7 +228,6 @@ def _joint_fit(parts, d_ref, sized: bool):
 def combine(parts, layer: str) -> Calibration:
     """One calibration of ``layer`` from the calibrations of two or more sources (module
     docstring)."""
-    from scipy.stats import f as f_dist
     parts = list(parts)
     if len(parts) < 2:
         raise InputError(f"a joint calibration of {layer} needs 2 or more sources, got "
@@ -239,11 +240,12 @@ def combine(parts, layer: str) -> Calibration:
     depths = [pt.depth for p in parts for pt in p.strengths] or [1e-6]
     d_ref = float(np.exp(np.mean(np.log(depths))))
     x, std, own_at, ssr, dof = _joint_fit(parts, d_ref, sized=True)
-    # a size effect counts as seen when Nix-Gao beats one constant sigma_y by more than
-    # noise: F test of the extra parameter at 95 %, as for a sphere's first yield
+    # a size effect counts as seen by the rule of `depth_trend`: the sources' depths span
+    # MIN_DEPTH_RATIO and Nix-Gao beats one constant sigma_y by the F test
     flat = _joint_fit(parts, d_ref, sized=False)
-    F = (flat[3] - ssr) / max(ssr / dof, 1e-300)
-    sized = x[1] > 0 and F > f_dist.ppf(0.95, 1, dof)
+    trend = depth_trend([pt.depth for p in parts for pt in p.strengths] or [d_ref],
+                        flat[3], ssr, dof)
+    sized = trend.identified
     if not sized:
         x, std, own_at, ssr, dof = flat
     moduli = [(p.label, p.modulus(x[a:a + 1], std[a]) if p.modulus else p.calibration.E)
@@ -257,15 +259,13 @@ def combine(parts, layer: str) -> Calibration:
                         "" if std[0] < IDENTIFIABLE_RSD
                         else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}")
     if sized:
-        ok = h_std < IDENTIFIABLE_RSD * h_star
-        h_param = Parameter(h_star, h_std, "m", bool(ok),
-                            "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}")
+        h_param = h_star_parameter(h_star, h_std)
         warnings.append(f"sigma_y is the macroscopic sigma_y0 of one Nix-Gao law over "
                         f"{len(parts)} sources")
     else:
-        h_param = None
-        warnings.append(f"no size effect: Nix-Gao does not fit the sources better than one "
-                        f"constant sigma_y (F = {F:.3g}); sigma_y is that constant")
+        h_param = Parameter(math.nan, math.nan, "m", False, trend.reason)
+        warnings.append(f"no size effect: {trend.reason}; sigma_y is one constant over the "
+                        "sources")
 
     def sigma_at(d):
         return sy0 * np.sqrt(1.0 + h_star / np.asarray(d, dtype=float))

@@ -52,6 +52,8 @@ class Parameter:
 
     def text(self) -> str:
         tag = "" if self.identified else f"  [not identified: {self.reason}]"
+        if math.isnan(self.value):
+            return tag.strip()
         bound = ">= " if self.lower_bound else ""
         return bound + eng(self.value, self.unit, std=self.std) + tag
 
@@ -188,7 +190,8 @@ class Calibration:
             lines.append(f"  fit: rms misfit {self.rms:.2%} of the largest load over "
                          f"{self.points} points")
         if self.h_star is not None:
-            lines.append(f"  h*      = {self.h_star.text()} (Nix-Gao: sigma_y sqrt(1 + h*/h))")
+            law = "" if math.isnan(self.h_star.value) else " (Nix-Gao: sigma_y sqrt(1 + h*/h))"
+            lines.append(f"  h*      = {self.h_star.text()}{law}")
         if self.pop_in:
             p = self.pop_in
             lines.append(f"  pop-in  = {eng(p['load'], 'N', std=p['load_std'])} at "

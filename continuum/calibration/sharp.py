@@ -13,11 +13,17 @@ from filmscale.continuum.indentation.oliver_pharr import oliver_pharr, refuse_im
 from filmscale.continuum.indentation.reverse import dao_reverse_repeated
 from filmscale.continuum.indentation.reverse.dao import dao_forward, dao_reverse
 from filmscale.continuum.indentation.reverse.functions import E_I_DAO, NU_I_DAO
-from filmscale.continuum.indentation.size_effect import NixGaoFit, nix_gao_fit
+from filmscale.continuum.indentation.size_effect import (NixGaoFit, admissible_h_star,
+                                                         depth_trend, nix_gao_fit)
 from filmscale.continuum.indentation.spherical import check_tip_shape, loading_points
 from filmscale.core.errors import InputError
 
 from .result import IDENTIFIABLE_RSD, Calibration, Parameter
+
+
+#: n is identified when its std is below N_STD_MAX and it lies strictly inside the range
+#: Dao's functions were calibrated on (a value at a bound is where the root search stopped)
+N_STD_MAX, N_RANGE = 0.1, (0.0, 0.5)
 
 
 def sharp_inputs(curve: LoadDisplacementCurve, tip="berkovich"):
@@ -67,7 +73,12 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
         return Parameter(float(value), float(std), unit, ok,
                          "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}")
 
-    n_std_ok = math.isfinite(r.n_std) and r.n_std < 0.1
+    n_ok, n_reason = True, ""
+    if not (math.isfinite(r.n_std) and r.n_std < N_STD_MAX):
+        n_ok, n_reason = False, f"standard deviation above {N_STD_MAX:g}"
+    elif not N_RANGE[0] < r.n < N_RANGE[1]:
+        n_ok, n_reason = False, (f"n = {r.n:.3g} at or beyond the bounds {N_RANGE} of Dao's "
+                                 "functions")
     fitted = []
     for c, h_m in zip(curves, hm):
         h, P = loading_points(c)
@@ -76,8 +87,7 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
     return Calibration(
         layer=layer, route="sharp", E=param(r.E, r.E_std, "Pa"),
         sigma_y=param(r.sigma_y, r.sigma_y_std, "Pa"),
-        n=Parameter(float(r.n), float(r.n_std), "", n_std_ok,
-                    "" if n_std_ok else "standard deviation above 0.1"),
+        n=Parameter(float(r.n), float(r.n_std), "", n_ok, n_reason),
         nu=nu, uncertainty=how, rms=math.nan, points=len(curves),
         sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
         model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings,
@@ -117,13 +127,16 @@ MIN_REL_STD = 1e-3
 
 def nix_gao_strengths(points) -> NixGaoFit:
     """sigma_y0 and h* of sigma_y(d) = sigma_y0 sqrt(1 + h*/d) (Nix & Gao 1998, written for
-    sigma_y) from strength points.
+    sigma_y) from strength points, when they identify a depth law; else the
+    depth-independent strength with h* not identified (`size_effect.depth_trend`).
 
     Weighted least squares in ln sigma_y with weights 1/rel_std; h* > -0.9 x the smallest
     depth. Standard errors from s^2 (J^T J)^-1 with s^2 the weighted residual variance over
     N - 2 degrees of freedom (the stated stds weight the points; their scatter sets the
-    scale, as in `nix_gao_fit`). ``H0`` of the result is sigma_y0, ``r2`` is that of
-    ln sigma_y."""
+    scale, as in `nix_gao_fit`). The depth law is kept only when the strengths span a depth
+    ratio of `MIN_DEPTH_RATIO`, it beats the weighted constant by the F test of
+    `depth_trend`; h* is identified when also positive by two standard deviations. ``H0`` of the result is
+    sigma_y0 (or the constant), ``r2`` is that of ln sigma_y."""
     from scipy.optimize import least_squares
     points = list(points)
     if len(points) < 3:
@@ -131,53 +144,75 @@ def nix_gao_strengths(points) -> NixGaoFit:
     d = np.array([p.depth for p in points])
     s = np.array([p.sigma_y for p in points])
     w = 1.0 / np.maximum([p.rel_std for p in points], MIN_REL_STD)
-    if not np.all(np.isfinite(s) & (s > 0) & np.isfinite(w)):
-        raise InputError("Nix-Gao: every strength must be finite and > 0, with a finite std")
-    if np.ptp(np.log(d)) < 0.01:
-        raise InputError("Nix-Gao needs strengths at different depths")
+    if not np.all(np.isfinite(s) & (s > 0) & np.isfinite(w) & np.isfinite(d) & (d > 0)):
+        raise InputError("Nix-Gao: every strength and depth must be finite and > 0, with a "
+                         "finite std")
+    ln_s = np.log(s)
+    flat_ln = float(np.average(ln_s, weights=w**2))
+    flat_ssr = float(np.sum(w**2 * (ln_s - flat_ln)**2))
+    dof = len(points) - 2
+
+    def flat(reason: str, p_value: float = math.nan) -> NixGaoFit:
+        # the weighted mean of ln sigma_y; its std from the scatter about it
+        var = flat_ssr / max(len(points) - 1, 1) / float(np.sum(w**2))
+        sy = math.exp(flat_ln)
+        return NixGaoFit(sy, math.nan, sy * math.sqrt(var), math.nan, 0.0, len(points),
+                         False, reason, p_value)
+    span = depth_trend(d)
+    if not span.identified:
+        return flat(span.reason)
     d_ref = float(np.exp(np.mean(np.log(d))))
-    try:
-        start = nix_gao_fit(d, s)
-        x0 = [math.log(start.H0), max(start.h_star / d_ref, 0.0)]
-    except InputError:
-        x0 = [math.log(float(np.median(s))), 0.0]
 
     def residuals(x):
-        return w * np.log(math.exp(x[0]) * np.sqrt(1.0 + x[1] * d_ref / d) / s)
+        return w * (x[0] + 0.5 * np.log1p(x[1] * d_ref / d) - ln_s)
     low = -0.9 * float(d.min()) / d_ref
-    x0[1] = max(x0[1], 0.5 * low)
-    fit = least_squares(residuals, x0, bounds=([-np.inf, low], [np.inf, np.inf]),
+    fit = least_squares(residuals, [flat_ln, 0.0], bounds=([-np.inf, low], [np.inf, np.inf]),
                         xtol=1e-14, ftol=1e-14, gtol=1e-14)
-    dof = max(len(points) - 2, 1)
-    cov = float(fit.fun @ fit.fun) / dof * np.linalg.pinv(fit.jac.T @ fit.jac)
+    ssr = float(fit.fun @ fit.fun)
+    trend = depth_trend(d, flat_ssr, ssr, dof)
+    if not trend.identified:
+        return flat(trend.reason, trend.p_value)
+    cov = ssr / dof * np.linalg.pinv(fit.jac.T @ fit.jac)
+    h_star, h_star_std = float(fit.x[1] * d_ref), d_ref * math.sqrt(cov[1, 1])
     sigma_y0 = math.exp(fit.x[0])
-    ln_s = np.log(s)
-    total = float(np.sum(w**2 * (ln_s - np.average(ln_s, weights=w**2))**2))
-    r2 = 1.0 - float(fit.fun @ fit.fun) / total if total > 0 else 1.0
-    return NixGaoFit(sigma_y0, float(fit.x[1] * d_ref), sigma_y0 * math.sqrt(cov[0, 0]),
-                     d_ref * math.sqrt(cov[1, 1]), r2, len(points))
+    r2 = 1.0 - ssr / flat_ssr if flat_ssr > 0 else 1.0
+    return NixGaoFit(sigma_y0, h_star, sigma_y0 * math.sqrt(cov[0, 0]), h_star_std, r2,
+                     len(points), *admissible_h_star(h_star, h_star_std), trend.p_value)
+
+
+def h_star_parameter(h_star: float, h_star_std: float) -> Parameter:
+    """h* as a calibrated parameter: identified when its relative std is below
+    `IDENTIFIABLE_RSD` and it is positive by two standard deviations."""
+    ok, reason = admissible_h_star(h_star, h_star_std)
+    if ok and not h_star_std < IDENTIFIABLE_RSD * h_star:
+        ok, reason = False, f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}"
+    return Parameter(h_star, h_star_std, "m", ok, reason)
 
 
 def apply_size_effect(cal: Calibration, points) -> Calibration:
-    """``cal`` with sigma_y0 and h* of `nix_gao_strengths` over ``points``; unchanged (with a
-    warning) when they give none: fewer than 3 strengths, one depth, or h* <= 0."""
+    """``cal`` with sigma_y0 and h* of `nix_gao_strengths` over ``points`` when they identify
+    a depth law; otherwise ``cal``'s depth-independent sigma_y with h* marked not identified
+    and the reason (also for fewer than 3 strengths)."""
+    points = list(points)
     try:
         fit = nix_gao_strengths(points)
     except InputError as err:
-        return replace(cal, warnings=cal.warnings + (f"no size effect: {err}",))
-    if not fit.h_star > 0:
-        return replace(cal, warnings=cal.warnings + (
-            f"no size effect: the Nix-Gao fit of sigma_y over {fit.n} strengths gives h* = "
-            f"{fit.h_star:.3g} m",))
-    ok = fit.h_star_std < IDENTIFIABLE_RSD * fit.h_star
+        fit = None
+        reason = str(err)
+    else:
+        reason = fit.reason
+    if fit is None or math.isnan(fit.h_star):
+        return replace(cal, h_star=Parameter(math.nan, math.nan, "m", False, reason),
+                       warnings=cal.warnings + (f"no size effect: {reason}; sigma_y is the "
+                                                "depth-independent value",))
     depths = [p.depth for p in points]
     return replace(
         cal, sigma_y=replace(cal.sigma_y, value=fit.H0, std=fit.H0_std),
-        h_star=Parameter(fit.h_star, fit.h_star_std, "m", bool(ok),
-                         "" if ok else f"relative uncertainty above {IDENTIFIABLE_RSD:.0%}"),
+        h_star=h_star_parameter(fit.h_star, fit.h_star_std),
         warnings=cal.warnings + (
             f"sigma_y is the macroscopic sigma_y0 of a Nix-Gao fit over {fit.n} strengths "
-            f"({min(depths):.3g}-{max(depths):.3g} m, R^2 {fit.r2:.3f} in ln sigma_y)",))
+            f"({min(depths):.3g}-{max(depths):.3g} m, R^2 {fit.r2:.3f} in ln sigma_y, "
+            f"p = {fit.p_value:.2g} against one constant)",))
 
 
 def with_size_effect(cal: Calibration, curves, tip="berkovich", *, E_i: float = E_I_DAO,

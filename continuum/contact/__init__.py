@@ -1,6 +1,7 @@
 """filmscale.continuum.contact: a material (or layer stack) -> the impact of a rigid body.
 
 Hertz contact and elastic impact (`hertz`), elastic-plastic sphere contact laws (`laws`),
+the exact elastic rigid sphere and a law wrapper with it as elastic branch (`sneddon`),
 depth profiles of layered targets (`profiles`), unloading and restitution (`restitution`),
 the impact model with its maxima fast path and time integration (`impact`) and impact maps
 (`impact_map`), oblique impact (`oblique`) and the line-contact impact of a finite cylinder
@@ -22,6 +23,8 @@ _WHERE = {
     "LAW_NAMES": "laws", "ContactLaw": "laws", "Hertz": "laws", "JacksonGreen": "laws",
     "KogutEtsion": "laws", "KomvopoulosYe": "laws", "Thornton": "laws", "contact_law": "laws",
     "ObliqueResult": "oblique", "solve_oblique": "oblique",
+    # importable from the package, not in __all__ (tests/test_api.py caps it at 30 names)
+    "SneddonElastic": "sneddon", "sneddon_force": "sneddon",
     "DepthProfile": "profiles", "StackProfile": "profiles", "TableProfile": "profiles",
     "UniformProfile": "profiles",
     "UNLOADING_MODELS": "restitution", "thornton_restitution": "restitution",

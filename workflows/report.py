@@ -15,7 +15,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from filmscale.continuum.calibration.result import CrossCheck, pop_in_bottom
+from filmscale.continuum.calibration.result import (FITS_E, FITS_SIGMA_Y, CrossCheck,
+                                                    pop_in_range)
 from filmscale.continuum.contact.results import ImpactMaxima
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
@@ -62,54 +63,112 @@ def _checks(group) -> list[CrossCheck]:
     return [CrossCheck(**c) for c in json.loads(group.attrs["cross_check"])]
 
 
+def _curve_keys(group) -> list[str]:
+    return sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
+
+
+#: how the points a parameter was fitted on are marked (`Calibration.fit_roles`)
+ROLE_MARKERS = ((FITS_E, "^", "points that set E"),
+                (FITS_SIGMA_Y, "s", "points that set sigma_y"),
+                (FITS_E | FITS_SIGMA_Y, "D", "points that set E and sigma_y"))
+
+
+def _load_unit(group) -> tuple[str, float]:
+    """The load unit that keeps the axis at 1-1000 (MD curves nN, instruments uN to mN)."""
+    keys = _curve_keys(group)
+    largest = max(float(np.nanmax(group[k]["P"][()])) for k in keys) if keys else 1.0
+    return next(((u, f) for u, f in (("nN", 1e9), ("µN", 1e6), ("mN", 1e3))
+                 if largest * f < 1e3), ("N", 1.0))
+
+
 def _draw_calibration(ax, group, title: str):
-    """Each calibration curve (points) and the calibrated forward model (line), with the
-    range a cross-scale check left out shaded; log axes where the curves span more than a
+    """Each calibration curve (small dots), the points each parameter was fitted on (marked
+    by role), the calibrated forward model on the fit's own contact zero (line), and the
+    range a cross-scale check left out (shaded); log axes where the curves span more than a
     decade of depth (nanometre and micrometre sources)."""
-    curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
+    curves = _curve_keys(group)
     depths = [float(group[k]["h"][()].max()) for k in curves]
-    excluded = any(c.excluded == "pop-in" for c in _checks(group))
-    largest = max(float(np.nanmax(group[k]["P"][()])) for k in curves) if curves else 1.0
-    # the load unit that keeps the axis at 1-1000 (MD curves nN, instruments uN to mN)
-    unit, factor = next(((u, f) for u, f in (("nN", 1e9), ("µN", 1e6), ("mN", 1e3))
-                         if largest * f < 1e3), ("N", 1.0))
+    excluded = next((c.excluded for c in _checks(group) if c.excluded), "")
+    unit, factor = _load_unit(group)
+    labelled = set()
+
+    def label(text):
+        if text in labelled:
+            return None
+        labelled.add(text)
+        return text
     for i, key in enumerate(curves):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
-        P, F = P * factor / 1e9, F * factor / 1e9
+        roles = group[key]["fitted_for"][()] if "fitted_for" in group[key] else None
+        x, P, F = h * 1e9, P * factor, F * factor
         color = f"C{i % 10}"
-        bottom = pop_in_bottom(h, P) if excluded else None
-        if bottom is not None:
-            ax.axvspan(0.0, h[bottom] * 1e9, color=color, alpha=0.1, lw=0,
-                       label="left out of the check: the pop-in (no law has one)"
-                       if i == 0 else None)
-        ax.plot(h * 1e9, P * 1e9, ".", ms=3, color=color,
-                label="calibration curve" if i == 0 else None)
-        ax.plot(h * 1e9, F * 1e9, "-", color=color,
-                label="calibrated forward model" if i == 0 else None)
+        span = pop_in_range(h, P) if excluded else None
+        if span is not None:
+            start = 0 if excluded == "pop-in" else span[0] + 1
+            ax.axvspan(x[start], x[span[1]], color=color, alpha=0.12, lw=0,
+                       label=label(f"left out of the check: the {excluded}"))
+        ax.plot(x, P, ".", ms=2, color=color, alpha=0.6, label=label("calibration curve"))
+        if roles is not None:
+            for role, marker, text in ROLE_MARKERS:
+                sel = roles == role
+                if sel.any():
+                    ax.plot(x[sel], P[sel], marker, ms=3.5, mfc="none", mew=0.7,
+                            color=color, label=label(text))
+        ax.plot(x, F, "-", color="k" if len(curves) == 1 else color, lw=1.2,
+                label=label("calibrated forward model"))
     if depths and max(depths) > 10 * min(depths):
         ax.set_xscale("log")
         ax.set_yscale("log")
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel(f"load P ({unit})")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, loc="upper left", framealpha=0.8)
 
 
 def _draw_residuals(ax, group):
     """(P_model - P) / P_max of each calibration curve against depth, with the first
-    cross-scale check's tolerance."""
-    curves = sorted((k for k in group if k.startswith("curve_")), key=lambda k: int(k[6:]))
-    for i, key in enumerate(curves):
-        h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
-        ax.plot(h * 1e9, (F - P) / P.max(), ".", ms=3, color=f"C{i % 10}")
+    cross-scale check's tolerance and its verdict written in the panel."""
     check = _checks(group)[0]
+    for i, key in enumerate(_curve_keys(group)):
+        h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
+        span = pop_in_range(h, P) if check.excluded else None
+        if span is not None:
+            start = 0 if check.excluded == "pop-in" else span[0] + 1
+            ax.axvspan(h[start] * 1e9, h[span[1]] * 1e9, color=f"C{i % 10}", alpha=0.12, lw=0)
+        ax.plot(h * 1e9, 100 * (F - P) / P.max(), ".", ms=3, color=f"C{i % 10}")
     for sign in (-1, 1):
-        ax.axhline(sign * check.tolerance, color="0.4", ls="--", lw=1)
+        ax.axhline(100 * sign * check.tolerance, color="0.4", ls="--", lw=1,
+                   label="tolerance" if sign > 0 else None)
     ax.axhline(0.0, color="0.7", lw=0.8)
     ax.set_xlabel("depth h (nm)")
-    ax.set_ylabel("(model - curve) / P_max")
-    left_out = f"; {check.excluded} range left out of the check" if check.excluded else ""
-    ax.set_title(f"residuals, dashed: tolerance {check.tolerance:.1%}{left_out}", fontsize=9)
+    ax.set_ylabel("(model - curve) / P_max (%)")
+    ax.set_title(check_verdict(check), fontsize=7.5)
+    ax.legend(fontsize=7, loc="lower left")
+
+
+def check_verdict(check: CrossCheck) -> str:
+    """The cross-scale check in three short lines for a figure panel: the verdict with the
+    rms against the tolerance, what was left out and the misfit of each part of a pop-in
+    curve, and the parts that fail."""
+    sign = "<=" if check.passed else ">"
+    lines = [f"cross-scale check {'passed' if check.passed else 'FAILED'}: {check.rms:.1%} rms "
+             f"{sign} tolerance {check.tolerance:.1%}"
+             + (f" (2 x noise {check.noise:.2%})" if check.basis.startswith("2 x") else "")]
+    detail = [f"{check.excluded} left out ({check.excluded_points} points)"] \
+        if check.excluded else []
+    if check.parts:
+        detail.append("by part: " + ", ".join(f"{name} {rms:.1%}"
+                                              for name, rms in check.parts.items()))
+    if detail:
+        lines.append("; ".join(detail))
+    left_out = {"pop-in": ("elastic", "burst"), "burst": ("burst",)}.get(check.excluded, ())
+    failing = [name for name, rms in check.parts.items()
+               if name not in left_out and rms > check.tolerance]
+    if failing and not check.passed:
+        lines.append("the model cannot follow: " + ", ".join(
+            {"elastic": "the elastic loading before the pop-in", "flow": "the flow after the "
+             "pop-in"}.get(name, name) for name in failing))
+    return "\n".join(lines)
 
 
 def _draw_profile(ax, group, radius):
@@ -189,37 +248,50 @@ def _band_figure(impact) -> str:
 
 def scene_figure(result):
     """One Figure summing up a scene result: the first calibrated layer's curves with the
-    calibrated forward model, the depth profile, and the map's maximum approach and
-    restitution (when there is a map), with their +- 2 std bands at the scene's radius (when
-    the calibrations give standard deviations)."""
+    points each parameter was fitted on and the calibrated forward model, its residuals
+    beneath with the cross-scale check's verdict, the depth profile, and the map's maximum
+    approach and restitution (when there is a map), with their +- 2 std bands at the
+    scene's radius (when the calibrations give standard deviations)."""
+    from matplotlib.figure import Figure
     with _result_file(Path(result)) as f:
         has_map = "map" in f["impact"]
         bands = has_map and "map_std" in f["impact"]
-        fig, axes = _figure(1 + bands, 4 if has_map else 2, squeeze=False,
-                            figsize=(17 if has_map else 9, 3.8 * (1 + bands)))
-        for key in list(f["calibration"])[:1]:
+        cols = 4 if has_map else 2
+        fig = Figure(figsize=(4.6 * cols, 8.4 if bands else 6.4), layout="constrained")
+        grid = fig.add_gridspec(2, cols, height_ratios=(1.6, 1.0))
+
+        def panel(row, col):
+            # without bands the right-hand panels take both rows
+            return fig.add_subplot(grid[row, col] if bands or col == 0 else grid[:, col])
+        calibration = list(f["calibration"])[:1]
+        for key in calibration:
             g = f["calibration"][key]
-            rms = ", ".join(f"{c.rms:.0%} rms" + (f" after the {c.excluded}" if c.excluded
-                                                   else "")
-                            + f", check {'passed' if c.passed else 'failed'}"
-                            for c in _checks(g))
             cal = json.loads(g.attrs["calibration"])
-            _draw_calibration(axes[0, 0], g, f"{g.attrs['layer']}: E {g.attrs['E'] / 1e9:.0f} "
-                              f"GPa, sigma_y {_bounded(cal['sigma_y'], 1e-9, '.2g')} GPa"
-                              f"\n({rms})")
-        _draw_profile(axes[0, 1], f["profile"], float(f["impact/point/radius"][()]))
+            law = "pop-in law" if cal["model"].startswith("pop-in law") else cal["route"]
+            _draw_calibration(panel(0, 0), g, f"{g.attrs['layer']} ({law}): "
+                              f"E {_quantity(cal['E']['value'], 'Pa', cal['E']['std'])},\n"
+                              f"sigma_y {_bounded_quantity(cal['sigma_y'])}")
+            _draw_residuals(panel(1, 0), g)
+        _draw_profile(panel(0, 1),
+                      f["profile"], float(f["impact/point/radius"][()]))
         if has_map:
             m = result_map(f["impact/map"])
             note = bound_note(f["calibration"])
-            for ax, (key, label, _) in zip(axes[0, 2:], MAP_PANELS[:2]):
+            for col, (key, label, _) in zip((2, 3), MAP_PANELS[:2]):
+                ax = panel(0, col)
                 draw_map_field(fig, ax, m, key, label=label)
                 ax.set_title(note.replace(" (>=", "\n(>="), fontsize=8)
         if bands:
-            for ax, panel in zip(axes[1, :2], MAP_PANELS[:2]):
-                _draw_band(ax, f["impact"], *panel)
-            for ax in axes[1, 2:]:
-                ax.axis("off")
+            for col, item in zip((1, 2), MAP_PANELS[:2]):
+                _draw_band(panel(1, col), f["impact"], *item)
     return fig
+
+
+def _bounded_quantity(parameter: dict) -> str:
+    """A calibrated value with its std for people; ">= value" for a lower bound."""
+    if parameter.get("lower_bound"):
+        return ">= " + _quantity(parameter["value"], parameter["unit"])
+    return _quantity(parameter["value"], parameter["unit"], parameter["std"])
 
 
 def write_figure(result, out) -> Path:

@@ -78,6 +78,9 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                     curve.attrs["source"] = cal.curve_sources[i]
                 for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
                     curve.create_dataset(name, data=data).attrs["units"] = unit
+                if cal.fit_roles:
+                    # 1: sets E, 2: sets sigma_y, 3: both, 0: not fitted
+                    curve.create_dataset("fitted_for", data=cal.fit_roles[i])
         prof = profile_table(scene, scene.impactor.radius)
         p = f.create_group("profile")
         for name, unit in (("delta", "m"), ("E_p", "Pa"), ("sigma_y", "Pa"), ("nu", "1")):
@@ -268,6 +271,8 @@ def write_indentation_results(path, records: list[dict], provenance: dict[str, s
             g.attrs["layers"] = dumps(profile["layers"])
             if profile.get("nix_gao"):
                 g.attrs["nix_gao"] = dumps(profile["nix_gao"])
+            if profile.get("film"):      # the film's E by a film/substrate model (JSON, SI)
+                g.attrs["film"] = dumps(profile["film"])
     return Path(path)
 
 

@@ -330,14 +330,17 @@ def _stored_calibration(path: Path, compute) -> tuple[Calibration, bool]:
             fitted = {}
             for i, (h, P, F) in enumerate(cal.fitted_curves):
                 fitted.update({f"h_{i}": h, f"P_{i}": P, f"P_model_{i}": F})
+            fitted.update({f"fitted_for_{i}": r for i, r in enumerate(cal.fit_roles)})
             with atomic_path(path / "fit.npz") as tmp:
                 with open(tmp, "wb") as f:
                     np.savez(f, **fitted)
             record = finish_unit(path, cal.to_dict(), ("fit.npz",))
     with np.load(path / "fit.npz") as d:
-        fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"])
-                       for i in range(len(d.files) // 3))
-    return Calibration.from_dict(record, fitted), reused
+        count = sum(name.startswith("h_") for name in d.files)
+        fitted = tuple((d[f"h_{i}"], d[f"P_{i}"], d[f"P_model_{i}"]) for i in range(count))
+        roles = tuple(d[f"fitted_for_{i}"] for i in range(count)) \
+            if f"fitted_for_{count - 1}" in d.files else ()
+    return Calibration.from_dict(record, fitted, roles), reused
 
 
 def calibration_unit(src: CalibrationSource, run_paths: list[Path], curves: list, nu: float,

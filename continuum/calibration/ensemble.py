@@ -15,35 +15,18 @@ stress (0.31 p0, Johnson 1985) are given as mean and scatter over the members.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.spherical import elastic_limit, pop_in_shear_stress
-from filmscale.continuum.indentation.tips import Sphere
 from filmscale.continuum.materials import reduced_modulus
 from filmscale.core.errors import InputError
 
+from .pop_in import pop_in_statistics
 from .result import Calibration, Parameter
 from .route import calibrate, tip_counterpart
 from .target import SphereTarget
-
-
-@dataclass(frozen=True)
-class PopInStatistics:
-    """Mean and seed-to-seed standard deviation of the first pop-in over the members."""
-
-    members: int              #: members with a pop-in
-    load: float               #: N
-    load_std: float
-    depth: float              #: m
-    depth_std: float
-    shear_stress: float       #: Pa, 0.31 p0 of Hertz with the E* felt at the pop-in
-    shear_stress_std: float
-
-    def to_dict(self) -> dict:
-        return asdict(self)
 
 
 def ensemble_mean(curves) -> tuple[LoadDisplacementCurve, np.ndarray]:
@@ -66,23 +49,6 @@ def ensemble_mean(curves) -> tuple[LoadDisplacementCurve, np.ndarray]:
                                        "members": [str(c.meta.get("source", "")) for c in
                                                    curves]})
     return mean, P.std(axis=0, ddof=1)
-
-
-def _pop_ins(curves, E_star, nu, indenter, thickness, substrate) -> PopInStatistics | None:
-    rows = []
-    for c in curves:
-        peak = elastic_limit(c)
-        if peak is None or not isinstance(c.indenter, Sphere):
-            continue
-        R, P, h = c.indenter.R, float(c.P[peak]), float(c.h[peak])
-        felt = SphereTarget(nu, indenter, thickness, substrate).properties(h, R, E_star, 1.0)[0]
-        rows.append((P, h, pop_in_shear_stress(P, float(felt), R)))
-    if not rows:
-        return None
-    a = np.array(rows)
-    std = a.std(axis=0, ddof=1) if len(rows) > 1 else np.full(3, math.nan)
-    return PopInStatistics(len(rows), *(float(v) for pair in zip(a.mean(axis=0), std)
-                                        for v in pair))
 
 
 def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
@@ -110,7 +76,8 @@ def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
     E, sigma_y = averaged("E"), averaged("sigma_y")
     indenter = tip_counterpart(tip_material)[0]
     E_star = reduced_modulus(E.value / (1.0 - nu**2), indenter)
-    stats = _pop_ins(curves, E_star, nu, indenter, thickness, substrate)
+    stats = pop_in_statistics(curves, E_star, SphereTarget(nu, indenter, thickness,
+                                                           substrate))
     spread = ", ".join(f"{m.E.value:.4g}" for m in members)
     return replace(
         members[0], E=E, sigma_y=sigma_y,
@@ -121,6 +88,8 @@ def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
         sources=tuple(str(c.meta.get("source", f"seed {i}")) for i, c in enumerate(curves)),
         warnings=tuple(dict.fromkeys(w for m in members for w in m.warnings)),
         fitted_curves=tuple(f for m in members for f in m.fitted_curves),
+        fit_roles=tuple(r for m in members for r in m.fit_roles)
+        if all(m.fit_roles for m in members) else (),
         curve_noise=noise, pop_in=None if stats is None else stats.to_dict(),
         contact_zero=float(np.mean([m.contact_zero for m in members])),
         correlation=_member_correlation(members))

@@ -18,6 +18,8 @@ from filmscale.core.quantities import eng
 
 #: relative standard deviation above which a fitted parameter is reported as not identified
 IDENTIFIABLE_RSD = 0.3
+#: what a curve point was fitted for (`Calibration.fit_roles`; a point may carry both)
+FITS_E, FITS_SIGMA_Y = 1, 2
 
 
 def _float(x) -> float:
@@ -29,8 +31,9 @@ def _float(x) -> float:
 #: noise (rms misfit over rms noise: 1 for a model that explains everything but the noise),
 #: and never below MIN_TOLERANCE
 NOISE_FACTOR, MIN_TOLERANCE = 2.0, 0.005
-#: ranges a cross-scale check may leave out
-EXCLUDES = ("", "pop-in")
+#: ranges a cross-scale check may leave out: nothing, the loading up to the bottom of the
+#: first pop-in, or the pop-in's burst alone (from its peak to its bottom)
+EXCLUDES = ("", "pop-in", "burst")
 
 
 @dataclass(frozen=True)
@@ -84,7 +87,8 @@ class Calibration:
     #: the curves' load noise over the largest load when known beyond the curves themselves
     #: (an MD ensemble's seed-to-seed scatter); NaN: estimated from the curves
     curve_noise: float = math.nan
-    #: an ensemble's pop-in statistics (`ensemble.PopInStatistics` as a dict), or None
+    #: the pop-in statistics of curves with a pop-in (`pop_in.PopInStatistics` as a dict:
+    #: the pop-in law's third parameter), or None
     pop_in: dict | None = None
     #: the contact zero h0 (m) of a sphere calibration: the law was evaluated at the approach
     #: h - h0 (0 when the zero was held at the curves' h = 0; an ensemble's: its members' mean)
@@ -93,6 +97,9 @@ class Calibration:
     #: sphere fits give it from their covariance, an ensemble from its members' scatter)
     correlation: float = 0.0
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
+    #: per point of each fitted curve, what it was fitted for: a sum of `FITS_E` and
+    #: `FITS_SIGMA_Y` (0: not fitted; empty: not recorded)
+    fit_roles: tuple = field(default=(), repr=False, compare=False)
 
     def material(self) -> ElasticPlastic:
         """The calibrated layer as the continuum package's material. A sigma_y that the
@@ -104,10 +111,11 @@ class Calibration:
     def to_dict(self) -> dict:
         d = asdict(self)
         d.pop("fitted_curves")
+        d.pop("fit_roles")
         return d
 
     @classmethod
-    def from_dict(cls, d: dict, fitted_curves=()) -> Calibration:
+    def from_dict(cls, d: dict, fitted_curves=(), fit_roles=()) -> Calibration:
         """The calibration `to_dict` gave, read back (JSON nulls become NaN)."""
         d = dict(d)
         for key in ("E", "sigma_y", "n", "h_star"):
@@ -119,7 +127,7 @@ class Calibration:
         d["curve_noise"] = _float(d.get("curve_noise"))
         if d.get("pop_in"):
             d["pop_in"] = {k: math.nan if v is None else v for k, v in d["pop_in"].items()}
-        return cls(**d, fitted_curves=tuple(fitted_curves))
+        return cls(**d, fitted_curves=tuple(fitted_curves), fit_roles=tuple(fit_roles))
 
     def cross_check(self, tolerance: float | None = None, source: str = "",
                     exclude: str = "") -> CrossCheck:
@@ -130,10 +138,12 @@ class Calibration:
 
         ``tolerance`` None: `NOISE_FACTOR` times the curves' own noise (`noise_sigma` of the
         load over its largest value, rms over the curves), at least `MIN_TOLERANCE`: the
-        model must explain the curves to within their noise. ``exclude="pop-in"`` leaves out
-        each curve's loading up to the bottom of its first pop-in (the defect-free elastic
-        overshoot and the load drop, which no contact law has), so that the check judges
-        the flow after it, which sigma_y was fitted to."""
+        model must explain the curves to within their noise. ``exclude="burst"`` leaves out
+        each curve's first pop-in from its peak to the bottom of its load drop, the one part
+        the pop-in law (`calibration.pop_in`) does not model; ``exclude="pop-in"`` leaves out
+        the loading up to that bottom (the elastic overshoot too), so that the check judges
+        the flow after it alone. Curves with a pop-in get the misfit of each part in
+        ``parts`` and, when the check fails, the parts that fail and why in ``lacks``."""
         check_choice("exclude", exclude, EXCLUDES)
         curves = [c for i, c in enumerate(self.fitted_curves)
                   if not source or not self.curve_sources or self.curve_sources[i] == source]
@@ -150,34 +160,34 @@ class Calibration:
         else:
             tolerance = check_real("tolerance", tolerance, low=0.0, low_open=True, high=1.0)
             basis = "stated"
-        resid, before, excluded = [], [], 0
+        resid, pieces, excluded = [], {"elastic": [], "burst": [], "flow": []}, 0
         for h, P, F in curves:
             r = (F - P) / P.max()
-            bottom = pop_in_bottom(h, P)
-            if bottom is not None:
-                before.append(r[:bottom + 1])
-            if exclude == "pop-in" and bottom is not None:
-                excluded += bottom + 1
-                r = r[bottom + 1:]
+            span = pop_in_range(h, P)
+            if span is None:
+                pieces["flow"].append(r)
+            else:
+                peak, bottom = span
+                pieces["elastic"].append(r[:peak + 1])
+                pieces["burst"].append(r[peak + 1:bottom + 1])
+                pieces["flow"].append(r[bottom + 1:])
+                if exclude:
+                    start = 0 if exclude == "pop-in" else peak + 1
+                    excluded += bottom + 1 - start
+                    r = np.concatenate([r[:start], r[bottom + 1:]])
             resid.append(r)
         resid = np.concatenate(resid)
         if resid.size == 0:
-            raise InputError(f"calibration of {self.layer}: excluding the pop-in leaves no "
-                             "point to check")
+            raise InputError(f"calibration of {self.layer}: excluding the {exclude} range "
+                             "leaves no point to check")
         rms = float(np.sqrt(np.mean(resid**2)))
         passed = rms <= tolerance
-        lacks = ""
-        if not passed and before:
-            pre = np.concatenate(before)
-            if exclude != "pop-in" and float(np.sqrt(np.mean(pre**2))) > tolerance:
-                lacks = ("the law has no pop-in: the curve stays elastic past the law's first "
-                         "yield and then drops its load (exclude = \"pop-in\" leaves that "
-                         "range out)")
-            elif exclude == "pop-in":
-                lacks = ("the law cannot follow the flow after the pop-in (a crystal that "
-                         "has just nucleated dislocations, not a continuum's hardening)")
+        parts = {name: float(np.sqrt(np.mean(np.concatenate(v)**2)))
+                 for name, v in pieces.items() if v and np.concatenate(v).size}
+        lacks = "" if passed or not pieces["elastic"] else _what_fails(parts, tolerance, exclude)
         return CrossCheck(self.model, rms, float(np.max(np.abs(resid))), tolerance, passed,
-                          int(resid.size), source, noise, basis, exclude, excluded, lacks)
+                          int(resid.size), source, noise, basis, exclude, excluded, lacks,
+                          parts if pieces["elastic"] else {})
 
     def summary(self) -> str:
         lines = [f"Calibration of {self.layer} ({self.route}: {self.model}; "
@@ -222,6 +232,9 @@ class CrossCheck:
     excluded: str = ""    #: the range left out ("pop-in") or ""
     excluded_points: int = 0
     lacks: str = ""       #: what the law lacks, when the check fails for a known reason
+    #: rms misfit / largest load of each part of curves with a pop-in: the elastic loading
+    #: up to it ("elastic"), the burst ("burst") and the flow after it ("flow")
+    parts: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -238,15 +251,37 @@ class CrossCheck:
         return out + (f"; {self.lacks}" if self.lacks else "")
 
 
-def pop_in_bottom(h, P) -> int | None:
-    """Index of the bottom of the first pop-in's load drop on a loading record: the first
-    point after the peak (`elastic_limit`) that has lost 80 % of the load the peak loses at
-    most afterwards (the load then fluctuates on its flow plateau); None without a pop-in."""
+def pop_in_range(h, P) -> tuple[int, int] | None:
+    """(peak, bottom): indices of the last point before the first pop-in (`elastic_limit`)
+    and of the bottom of its load drop on a loading record, the first point after the peak
+    that has lost 80 % of the load the peak loses at most afterwards (the load then
+    fluctuates on its flow plateau); None without a pop-in."""
     peak = elastic_limit(LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int)))
     if peak is None:
         return None
     after = P[peak:]
-    return peak + int(np.argmax(after <= after[0] - 0.8 * (after[0] - after.min())))
+    return peak, peak + int(np.argmax(after <= after[0] - 0.8 * (after[0] - after.min())))
+
+
+def pop_in_bottom(h, P) -> int | None:
+    """Index of the bottom of the first pop-in's load drop (`pop_in_range`), or None."""
+    span = pop_in_range(h, P)
+    return None if span is None else span[1]
+
+
+def _what_fails(parts: dict, tolerance: float, exclude: str) -> str:
+    """Which part of curves with a pop-in the forward model misses, and by how much."""
+    why = {"elastic": "the elastic loading before the pop-in (a crystal under the "
+                      "near-theoretical shear stress softens, which linear elasticity lacks; "
+                      "or the law has no pop-in and yields too early)",
+           "burst": "the pop-in's burst (the law drops from Hertz to its flow branch in one "
+                    "step)",
+           "flow": "the flow after the pop-in (a crystal that has just nucleated "
+                   "dislocations, not a continuum's hardening)"}
+    left_out = {"pop-in": ("elastic", "burst"), "burst": ("burst",)}.get(exclude, ())
+    missed = [f"{why[name]}: {rms:.1%} rms" for name, rms in parts.items()
+              if name not in left_out and rms > tolerance]
+    return ("the model misses " + "; ".join(missed)) if missed else ""
 
 
 def modulus_parameter(E_star, std_lnE, nu, compliance) -> Parameter:

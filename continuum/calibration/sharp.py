@@ -18,7 +18,7 @@ from filmscale.continuum.indentation.size_effect import (NixGaoFit, admissible_h
 from filmscale.continuum.indentation.spherical import check_tip_shape, loading_points
 from filmscale.core.errors import InputError
 
-from .result import IDENTIFIABLE_RSD, Calibration, Parameter
+from .result import FITS_E, FITS_SIGMA_Y, IDENTIFIABLE_RSD, Calibration, Parameter
 
 
 #: n is identified when its std is below N_STD_MAX and it lies strictly inside the range
@@ -79,11 +79,14 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
     elif not N_RANGE[0] < r.n < N_RANGE[1]:
         n_ok, n_reason = False, (f"n = {r.n:.3g} at or beyond the bounds {N_RANGE} of Dao's "
                                  "functions")
-    fitted = []
+    fitted, roles = [], []
     for c, h_m in zip(curves, hm):
         h, P = loading_points(c)
         C_model = dao_forward(r.E, nu, r.sigma_y, r.n, h_m, tip=tip, E_i=E_i, nu_i=nu_i).C
         fitted.append((h, P, float(C_model) * h**2))
+        # C comes from the loading beyond h_m / 2 (`sharp_inputs`); with the unloading's
+        # slope and work it sets E, sigma_y and n together
+        roles.append(np.where(h >= 0.5 * h_m, FITS_E | FITS_SIGMA_Y, 0).astype(np.int8))
     return Calibration(
         layer=layer, route="sharp", E=param(r.E, r.E_std, "Pa"),
         sigma_y=param(r.sigma_y, r.sigma_y_std, "Pa"),
@@ -91,7 +94,7 @@ def calibrate_sharp(curves, *, nu: float, tip="berkovich", layer: str = "layer",
         nu=nu, uncertainty=how, rms=math.nan, points=len(curves),
         sources=tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves)),
         model=f"Dao et al. 2001 reverse analysis ({r.method}, {tip})", warnings=r.warnings,
-        fitted_curves=tuple(fitted))
+        fitted_curves=tuple(fitted), fit_roles=tuple(roles))
 
 
 @dataclass(frozen=True)

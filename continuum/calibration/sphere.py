@@ -35,7 +35,9 @@ from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 
-from .result import IDENTIFIABLE_RSD, Calibration, Parameter, modulus_parameter
+from .pop_in import pop_in_statistics
+from .result import (FITS_E, FITS_SIGMA_Y, IDENTIFIABLE_RSD, Calibration, Parameter,
+                     modulus_parameter)
 from .target import SphereTarget
 
 
@@ -58,8 +60,17 @@ def sphere_radius(curve: LoadDisplacementCurve, R) -> float:
     return curve.indenter.R
 
 
+#: `calibrate_sphere`'s elastic="auto" puts Sneddon's exact rigid sphere under the law when a
+#: curve reaches deeper than this fraction of R: there Hertz's paraboloid is 0.5 % above the
+#: exact force and Komvopoulos-Ye's truncated sphere 0.8 % under it (docs/physics.md section
+#: 3), within the scatter of an E fit, so shallow calibrations keep the law's own branch; the
+#: MD presets reach 0.5 R, where the law's branch biases E by several per cent.
+SNEDDON_FROM = 0.05
+
+
 def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
                      law: str | ContactLaw = "komvopoulos-ye-continuous",
+                     elastic: str = "auto",
                      indenter: ElasticPlastic | None = None, n: float = 0.0,
                      split_at_pop_in: bool = True, thickness: float | None = None,
                      substrate: ElasticPlastic | None = None,
@@ -78,6 +89,13 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         Tip radius of each curve, m; default from each curve's ``indenter`` (``sphere:...``).
     law : str or ContactLaw
         Sphere contact law used as the forward model beyond first yield.
+    elastic : "auto", "sneddon" or "law"
+        The law's elastic branch: "sneddon" puts Sneddon's exact rigid sphere under it
+        (`SneddonElastic`: its elastic branch exact, its plastic branches joined to it at
+        first yield), "law" keeps the law's own (Hertz's paraboloid, or Komvopoulos-Ye's
+        truncated sphere), "auto" (default) takes Sneddon when any curve's deepest
+        approach exceeds `SNEDDON_FROM` R. The Calibration's ``model`` says which. The
+        elastic fit below a pop-in follows the same choice (`SphereTarget.hertz`).
     indenter : ElasticPlastic, optional
         The tip's material (None: rigid, as the MD and particle tips are; `DIAMOND` for a
         measured curve).
@@ -121,16 +139,26 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         radius = sphere_radius(c, r)
         check_curve_modulus(c, R=radius)      # a unit slip, before any fit
         data.append((h, P, radius, float(P.max()), pop))
+    from filmscale.continuum.contact.sneddon import SneddonElastic
+    from filmscale.core.checks import check_choice
+    elastic = check_choice("elastic", elastic, ("auto", "sneddon", "law"))
+    deepest = max(float(h.max()) / r for h, _, r, *_ in data)
+    exact = elastic == "sneddon" or (elastic == "auto" and deepest > SNEDDON_FROM)
+    law = SneddonElastic(law) if exact else law
+    branch = ("elastic branch Sneddon's exact sphere" if exact else
+              "elastic branch the law's own") + (
+        f" ({elastic}: deepest approach {deepest:.3g} R)" if elastic == "auto" else "")
     target = SphereTarget(nu, indenter, thickness, substrate)
     sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
     common = dict(layer=layer, nu=nu, n=Parameter(
         float(n), math.nan, "", False,
         f"the sphere law ({law.name}) is elastic-perfectly plastic; n fixed"), sources=sources,
-        model=law.name if not target.layered else f"{law.name} on a {target.describe()}")
+        model=law.name + (f" on a {target.describe()}" if target.layered else "")
+        + f"; {branch}")
     zero = _ZeroFit(fit_zero, max(h.max() for h, *_ in data))
     hertz_fraction = check_real("hertz_fraction", hertz_fraction, low=0.1, high=1.0)
     if split_at_pop_in and any(pop is not None for *_, pop in data):
-        return _sphere_past_pop_in(data, law, target, common, zero, hertz_fraction)
+        return _sphere_past_pop_in(data, law, target, common, zero, hertz_fraction, curves)
     return _sphere_joint(data, law, target, common, zero)
 
 
@@ -172,6 +200,35 @@ class _ZeroFit:
 def _residuals(data, law, target, E_star, sigma_y, yielding_substrate=True):
     return np.concatenate([(target.forces(law, h, r, E_star, sigma_y, yielding_substrate)[0]
                             - P) / Pm for h, P, r, Pm, *_ in data])
+
+
+def _pop_in_roles(data, fraction, yielded: bool) -> tuple:
+    """What each point of the pop-in route was fitted for: E the elastic points below
+    ``fraction`` of the pop-in load, sigma_y (when identified) every point after the pop-in
+    (of a curve without one: every point)."""
+    roles = []
+    for h, P, _, _, pop in data:
+        role = np.zeros(h.size, np.int8)
+        if pop is None:
+            role[:] = FITS_SIGMA_Y * yielded
+        else:
+            role[:pop + 1][P[:pop + 1] <= fraction * P[pop]] = FITS_E
+            role[pop + 1:] = FITS_SIGMA_Y * yielded
+        roles.append(role)
+    return tuple(roles)
+
+
+def _fitted_with_pop_in(data, law, target, E_star, sigma_y, h0=0.0):
+    """(h, P, the pop-in law's force) of each curve: Hertz with the E* felt at each approach
+    up to the curve's pop-in, the law after it (all of a curve without one)."""
+    out = []
+    for (h, P, F), (_, _, r, _, pop) in zip(_fitted(data, law, target, E_star, sigma_y, h0),
+                                            data):
+        if pop is not None:
+            F = F.copy()
+            F[:pop + 1] = target.hertz(np.clip(h[:pop + 1] - h0, 0.0, None), r, E_star, law)
+        out.append((h, P, F))
+    return tuple(out)
 
 
 def _fitted(data, law, target, E_star, sigma_y, h0=0.0, yielding_substrate=True):
@@ -273,15 +330,19 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",
         rms=math.sqrt(ssr / N), points=N, warnings=tuple(warnings), fitted_curves=fitted,
+        fit_roles=tuple(np.full(h.size, FITS_E | (FITS_SIGMA_Y if yielded else 0), np.int8)
+                        for h, *_ in data),
         contact_zero=h0, correlation=correlation, **common)
 
 
-def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibration:
-    """Curves with a pop-in (MD's defect-free crystal): E* by Hertz on the loading below
-    ``fraction`` of the first pop-in load, then sigma_y with E* fixed on the loading
-    after the pop-in. The contact law
-    has no pop-in, so a joint fit would trade E* against the elastic overshoot. The std of
-    sigma_y adds the propagated std of E* to its own (conditional) one."""
+def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Calibration:
+    """Curves with a pop-in (MD's defect-free crystal), through the pop-in law
+    (`calibration.pop_in`): E* by Hertz on the loading below ``fraction`` of the first
+    pop-in load, then sigma_y with E* fixed on the loading after the pop-in, and the pop-in
+    load and shear stress over the curves. The contact law has no pop-in, so a joint fit
+    would trade E* against the elastic overshoot. The std of sigma_y adds the propagated
+    std of E* to its own (conditional) one. The forward model is Hertz up to each curve's
+    pop-in and the law after it."""
     from scipy.optimize import least_squares
     # stage 1: the elastic branch before each pop-in, each curve weighted by 1/P_max
     below = [(h[:pop + 1], P[:pop + 1], P[:pop + 1] <= fraction * P[pop], r, Pm)
@@ -300,7 +361,7 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
 
     def elastic_residuals(theta):
         (ln_e,), h0 = zero.split(theta)
-        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e))
+        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e), law)
                                 - P) / Pm for h, P, r, Pm in pre])
     efit = least_squares(elastic_residuals, zero.start([math.log(float(x @ y / (x @ x)))]),
                          diff_step=1e-6, xtol=1e-14, ftol=1e-14,
@@ -341,15 +402,20 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction) -> Calibratio
         sigma_param = _lower_bound(post or zero.shifted(pre, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
     warnings += zero.note(h0)
-    fitted = _fitted(data, law, target, E_star, sigma_param.value, h0)
+    fitted = _fitted_with_pop_in(data, law, target, E_star, sigma_param.value, h0)
     resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
+    stats = pop_in_statistics(curves, E_star, target)
     return Calibration(
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="sequential least squares (Hertz before the pop-in, then sigma_y with E* "
-                    "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y",
+                    "fixed); covariances s^2 (J^T J)^-1, E*'s propagated into sigma_y; pop-in "
+                    "load and shear stress: their scatter over the curves",
         rms=math.sqrt(float(resid @ resid) / resid.size), points=int(resid.size),
         warnings=tuple(warnings), fitted_curves=fitted, contact_zero=h0,
-        correlation=correlation if sigma_param.identified else 0.0, **common)
+        fit_roles=_pop_in_roles(data, fraction, sigma_param.identified),
+        correlation=correlation if sigma_param.identified else 0.0,
+        pop_in=None if stats is None else stats.to_dict(),
+        **{**common, "model": f"pop-in law (elastic to the pop-in load, then {common['model']})"})
 
 
 def _correlation(cov: float, std_a: float, std_b: float) -> float:

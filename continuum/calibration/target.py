@@ -31,6 +31,7 @@ import numpy as np
 from filmscale.continuum.contact.hertz import _hertz_force
 from filmscale.continuum.contact.laws import ContactLaw
 from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.continuum.contact.sneddon import SneddonElastic, sneddon_force
 from filmscale.continuum.materials import (ElasticPlastic, Layer, LayerStack,
                                            modulus_from_reduced, reduced_modulus)
 from filmscale.core.checks import THICKNESS_MAX, check_real
@@ -126,11 +127,15 @@ class SphereTarget:
         branch = law.branch_of(severity)
         return law.force_area(delta, R, *props, branch)[0], branch
 
-    def hertz(self, delta, R, E_star):
-        """Hertz's force (N) with the reduced modulus felt at each approach (Johnson 1985):
-        the elastic loading before a pop-in."""
+    def hertz(self, delta, R, E_star, law: ContactLaw | None = None):
+        """The elastic force (N) with the reduced modulus felt at each approach: the loading
+        before a pop-in. Hertz's paraboloid (Johnson 1985), or Sneddon's exact sphere when
+        ``law`` has Sneddon's elastic branch (`contact.sneddon.SneddonElastic`)."""
         # the reduced modulus does not depend on sigma_y: any finite value serves
-        return _hertz_force(delta, R, self.properties(delta, R, E_star, 1.0, False)[0])
+        felt = self.properties(delta, R, E_star, 1.0, False)[0]
+        if isinstance(law, SneddonElastic):
+            return sneddon_force(delta, R, felt)
+        return _hertz_force(delta, R, felt)
 
     def describe(self) -> str:
         tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"
@@ -141,4 +146,4 @@ class SphereTarget:
                     else "sigma_y taken as the film's")
         return (f"film of {eng(self.thickness, 'm', 3)} on {s.name or 'substrate'} "
                 f"(E {eng(s.E, 'Pa', 3)}, "
-                f"nu {s.nu:g}, {strength}), Gao-weighted; {tip}")
+                f"nu {s.nu:.3g}, {strength}), Gao-weighted; {tip}")

@@ -28,17 +28,24 @@ def test_default_tolerance_is_twice_the_curves_own_noise():
     assert not off.cross_check().passed
 
 
-def test_a_pop_in_fails_the_check_with_its_reason_and_can_be_left_out():
+def test_a_pop_in_fails_a_law_without_one_and_passes_the_pop_in_law():
     """Hertz of a pristine crystal 20 % stiffer up to a pop-in, then the law exactly (0.5 %
-    noise): the whole curve fails, saying the law has no pop-in; with the pop-in range left
-    out, the rest is the law and passes at the noise."""
+    noise). The law alone, fitted over the whole loading, fails and says it has no pop-in
+    (it yields at its own first yield, far before the pop-in). The pop-in law (Hertz to the
+    pop-in, then the law) passes the whole curve but the burst at the noise; leaving out
+    the whole pop-in range passes too, with the elastic part's points counted out."""
     curve = tc.pop_in_curve(np.random.default_rng(11), 1.2 * tc.E)
+    alone = calibrate_sphere(curve, nu=tc.NU, split_at_pop_in=False).cross_check()
+    assert not alone.passed and "no pop-in" in alone.lacks
+    assert alone.parts["elastic"] > alone.tolerance
     cal = calibrate_sphere(curve, nu=tc.NU)
-    whole = cal.cross_check()
-    assert not whole.passed and "the law has no pop-in" in whole.lacks
+    assert cal.model.startswith("pop-in law")
+    whole = cal.cross_check(exclude="burst")
+    assert whole.passed and whole.rms < 2 * 0.005 * 1.3
+    assert 0 < whole.excluded_points < 10 and "burst" in whole.text()
+    assert set(whole.parts) == {"elastic", "burst", "flow"}
     after = cal.cross_check(exclude="pop-in")
-    assert after.excluded == "pop-in" and after.excluded_points > 0
-    assert after.passed and after.rms < 2 * 0.005 * 1.3
-    assert "left out" in after.text()
+    assert after.excluded == "pop-in" and after.excluded_points > whole.excluded_points
+    assert after.passed and "left out" in after.text()
     with pytest.raises(InputError, match="exclude"):
         cal.cross_check(exclude="everything")

@@ -1,6 +1,6 @@
 """What a sphere calibration takes as the elastic segment of a curve with a pop-in, and where it
-puts the contact zero. Oracles: curves generated with a known E (Hertz before the pop-in, the
-contact law after it), with a known zero offset, or with a known softening before the burst
+puts the contact zero. Oracles: curves generated with a known E (the exact elastic sphere of
+Sneddon 1965 before the pop-in, the contact law after it), with a known zero offset, or with a known softening before the burst
 (the shape MD Cu(001) curves have, docs/md-indentation.md)."""
 
 import numpy as np
@@ -17,6 +17,18 @@ E_STAR = E / (1 - NU**2)
 LAW = contact_law("komvopoulos-ye-continuous")
 
 
+def sneddon_load(delta, E_star):
+    """P(delta) of a rigid sphere on a half-space: delta = (a/2) ln((R+a)/(R-a)),
+    P = (E*/2)[(a^2 + R^2) ln((R+a)/(R-a)) - 2 a R], a found by bisection."""
+    lo, hi = np.zeros_like(delta), np.full_like(delta, R * (1 - 1e-15))
+    for _ in range(200):
+        a = 0.5 * (lo + hi)
+        low = a / 2 * np.log((R + a) / (R - a)) < delta
+        lo, hi = np.where(low, a, lo), np.where(low, hi, a)
+    a = 0.5 * (lo + hi)
+    return E_star / 2 * ((a * a + R * R) * np.log((R + a) / (R - a)) - 2 * a * R)
+
+
 def md_like_curve(rng, *, offset=0.0, softening=0.0, noise=0.005, points=200):
     """Hertz (E) up to a pop-in at 6 first-yield approaches, the law after it; ``offset``
     (m) is added to every recorded depth (a misplaced surface); ``softening`` lowers the
@@ -24,9 +36,12 @@ def md_like_curve(rng, *, offset=0.0, softening=0.0, noise=0.005, points=200):
     pop-in load (the pre-burst softening of MD curves)."""
     dy = float(LAW.first_yield(R, E_STAR, SY, NU).approach)
     delta = np.linspace(12 * dy / points, 12 * dy, points)
-    hertz = 4 / 3 * E_STAR * np.sqrt(R) * delta**1.5
+    # the rigid sphere's exact elastic load (Sneddon 1965), written here from its
+    # parametric form: the pop-in at 6 dy lies at 0.13 R, where Hertz's paraboloid is 1.3 %
+    # stiffer
+    hertz = sneddon_load(delta, E_STAR)
     h_pop = 6 * dy
-    P_pop = 4 / 3 * E_STAR * np.sqrt(R) * h_pop**1.5
+    P_pop = float(sneddon_load(np.array([h_pop]), E_STAR)[0])
     soft = 1 - softening * np.clip((hertz / P_pop - 0.6) / 0.4, 0.0, 1.0)
     P = np.where(delta <= h_pop, hertz * soft, LAW.contact(delta, R, E_STAR, SY, NU).force)
     P = P + rng.normal(0.0, noise * P.max(), P.size)
@@ -35,11 +50,13 @@ def md_like_curve(rng, *, offset=0.0, softening=0.0, noise=0.005, points=200):
 
 
 def test_softening_before_the_pop_in_stays_out_of_E():
-    """A 15 % softening over the last 40 % of the pop-in load (as MD Cu(001) shows): E from
-    the Hertz points below HERTZ_FRACTION of the pop-in load is within 3 % and 3 std of the
-    truth; the same fit up to the burst (fraction 1) is more than 3 % low."""
+    """A 12 % softening over the last 40 % of the pop-in load (MD Cu(001) shows 10-30 %;
+    at 15 % the softened peak of this curve sinks to the law's load after the pop-in and no
+    drop is left to detect): E from the elastic points below HERTZ_FRACTION of the pop-in
+    load is within 3 % and 3 std of the truth; the same fit up to the burst (fraction 1) is
+    more than 3 % low."""
     assert HERTZ_FRACTION <= 0.6           # the softening starts at 0.6 of the pop-in load
-    curve = md_like_curve(np.random.default_rng(3), softening=0.15)
+    curve = md_like_curve(np.random.default_rng(3), softening=0.12)
     cal = calibrate_sphere(curve, nu=NU)
     assert abs(cal.E.value - E) < 0.03 * E and abs(cal.E.value - E) < 3 * cal.E.std
     assert any(f"below {HERTZ_FRACTION:g} of its load" in w for w in cal.warnings)

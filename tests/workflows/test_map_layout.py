@@ -169,4 +169,4 @@ def test_a_lower_bound_is_shown_as_one_in_the_report_and_the_figure(tmp_path):
             f"{cal.sigma_y.value / 1e9:.3g} GPa)") in html
     titles = [ax.get_title() for ax in scene_figure(result.path).axes]
     assert any(f">= {cal.sigma_y.value / 1e9:.3g} GPa" in t for t in titles)
-    assert any(f"sigma_y >= {cal.sigma_y.value / 1e9:.2g} GPa" in t for t in titles)
+    assert any(f"sigma_y >= {cal.sigma_y.value / 1e9:.4g} GPa" in t for t in titles)

@@ -56,7 +56,31 @@ def cmd_run(args) -> int:
         from .report import write_report
         print(f"filmscale: report {write_report(result.path)}", file=sys.stderr)
     print(result.path)
+    if args.strict:
+        reasons = _strict_reasons(result.path)
+        for reason in reasons:
+            print(f"filmscale: strict: {reason}", file=sys.stderr)
+        return 1 if reasons else 0
     return 0
+
+
+def _strict_reasons(path: Path) -> list[str]:
+    """`calibrate_cli.strict_reasons` of each calibrated layer of a scene result, as the
+    result file holds its calibration and cross-scale checks: "layer <name>: <reason>"."""
+    import json
+
+    import h5py
+
+    from filmscale.continuum.calibration.result import Calibration, CrossCheck
+
+    from .calibrate_cli import strict_reasons
+    out = []
+    with h5py.File(path, "r") as f:
+        for group in f["calibration"].values():
+            cal = Calibration.from_dict(json.loads(group.attrs["calibration"]))
+            checks = [CrossCheck(**c) for c in json.loads(group.attrs["cross_check"])]
+            out += [f"layer {cal.layer}: {r}" for r in strict_reasons(cal, checks)]
+    return out
 
 
 def _sweep_inputs(sweep: Path, scenes) -> list[tuple[str, Path]]:
@@ -237,6 +261,9 @@ def add_commands(sub) -> None:
     p.add_argument("--out", metavar="RESULT.h5",
                    help="result file (default results/SCENE.h5)")
     p.add_argument("--report", action="store_true", help="also write the HTML report")
+    from .calibrate_cli import add_strict_argument
+    add_strict_argument(p, "a layer's calibration is not one to trust (the result is still "
+                           "written)")
     add_force_argument(p)
     p.set_defaults(func=cmd_run)
 

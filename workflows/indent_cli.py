@@ -11,14 +11,19 @@ from pathlib import Path
 
 import numpy as np
 
+from filmscale.continuum.indentation.film_substrate import FILM_MODELS
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path
 from filmscale.core.jsonable import dumps
 
 from . import indent_calibrate
+from .calibrate_cli import _substrate_arg
 from .outputs import add_force_argument, check_outputs, hdf5_kind, output_path, text_kind
 from .quantity_args import add_quantity_argument
+
+#: the film's Poisson ratio when --nu is not given
+FILM_NU = 0.3
 
 #: header of the per-indent table ``--profile`` writes (a [target.profile] file of scenes)
 PROFILE_HEADER = "h_c [nm], E_r [GPa], H [GPa]"
@@ -80,6 +85,15 @@ def add_parser(isub) -> None:
     p.add_argument("--profile", metavar="PROFILE.csv",
                    help="write h_c, E_r, H per indent: a [target.profile] file for scenes")
     p.add_argument("--plot", metavar="DIR", help="one plot per curve and the depth profile")
+    p.add_argument("--film-model", choices=FILM_MODELS,
+                   help="the film's Young's modulus from the profile's indents with h_c >= t/10 "
+                        "by a film/substrate model (needs --film-thickness and --substrate; "
+                        "the film's Poisson ratio is --nu, default 0.3)")
+    add_quantity_argument(p, "--film-thickness", "m", metavar="T",
+                          help="with --film-model: the film's thickness, m or with units (500nm)")
+    p.add_argument("--substrate", type=_substrate_arg, metavar="E,nu",
+                   help="with --film-model: the substrate under the film, Pa or with units "
+                        "(70GPa,0.22)")
     p.add_argument("--workers", type=int, help="worker processes (default: all CPUs, max 8)")
     add_force_argument(p)
     p.set_defaults(func=cmd_indent_analyze)
@@ -193,10 +207,70 @@ def _analysis_options(args):
                          "unloading exponent to derive it from")
     if args.depth_range and not args.csm:
         raise InputError("--depth-range is the depth range of the CSM averages: give --csm")
+    _check_film_options(args)
     if args.shallow_correction and from_file:
         raise InputError("--shallow-correction needs one area function for every curve: give "
                          "an area file, not --area-file file")
     return options
+
+
+def _check_film_options(args) -> None:
+    """--film-model goes with --film-thickness and --substrate, and they with it."""
+    if args.film_model is None:
+        given = [flag for flag, value in (("--film-thickness", args.film_thickness),
+                                          ("--substrate", args.substrate)) if value is not None]
+        if given:
+            raise InputError(f"{' and '.join(given)} apply to a film model: give --film-model "
+                             f"({', '.join(FILM_MODELS)})")
+        return
+    for flag, value, what in (("--film-thickness", args.film_thickness, "the film's thickness"),
+                              ("--substrate", args.substrate, "the substrate's E,nu")):
+        if value is None:
+            raise InputError(f"--film-model {args.film_model} needs {flag} ({what})")
+    check_real("--film-thickness", args.film_thickness, low=0.0, high=1e-3, low_open=True,
+               unit="m")
+
+
+def _film_points(records) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(h_c, E_r, a) of the profile's points, a = sqrt(A_c/pi): an indent's own contact area;
+    a CSM test's binned points (`indent._csm_profile_points`) with the area of its own
+    loading points interpolated at each bin's h_c."""
+    from .indent import _csm_profile_points
+    rows = []
+    for r in records:
+        if r.get("status") != 0:
+            continue
+        if r.get("csm"):
+            h, area = (np.asarray(r["csm"][k], dtype=float) for k in ("h_c", "A"))
+            keep = np.isfinite(h) & np.isfinite(area) & (area > 0)
+            order = np.argsort(h[keep])
+            for h_c, E_r, _ in _csm_profile_points(r):
+                A = np.interp(h_c, h[keep][order], area[keep][order])
+                rows.append((h_c, E_r, np.sqrt(A / np.pi)))
+        elif r.get("A_c") is not None and r["A_c"] > 0:
+            rows.append((r["h_c"], r["E_r"], np.sqrt(r["A_c"] / np.pi)))
+    if not rows:
+        return np.empty(0), np.empty(0), np.empty(0)
+    return tuple(np.array(c, dtype=float) for c in zip(*rows))
+
+
+def _film_fit(args, records):
+    """The `FilmModulus` of --film-model over the analysed records (InputError when too few
+    indents lie in its range)."""
+    from filmscale.continuum.indentation.film_substrate import film_modulus
+    from filmscale.continuum.materials import DIAMOND
+    h_c, E_r, a = _film_points(records)
+    return film_modulus(h_c, E_r, a, thickness=args.film_thickness, substrate=args.substrate,
+                        model=args.film_model,
+                        nu=args.nu if args.nu is not None else FILM_NU, indenter=DIAMOND)
+
+
+def _nix_gao_line(nix_gao) -> str:
+    if not nix_gao.identified:
+        return (f"Nix-Gao: h* not identified: {nix_gao.reason}; H = H0 (depth-independent) "
+                f"= {nix_gao.H0 / 1e9:.4g} +- {nix_gao.H0_std / 1e9:.2g} GPa")
+    return (f"Nix-Gao: H0 = {nix_gao.H0 / 1e9:.4g} +- {nix_gao.H0_std / 1e9:.2g} GPa, "
+            f"h* = {nix_gao.h_star * 1e9:.4g} +- {nix_gao.h_star_std * 1e9:.2g} nm")
 
 
 def _num(value, scale: float, fmt: str) -> str:
@@ -284,6 +358,10 @@ def cmd_indent_analyze(args) -> int:
             print(dumps(r))
     else:
         print("\n".join(_table(records, args.csm)))
+    film = _film_fit(args, records) if args.film_model else None
+    if args.json and film is not None:    # one more line: the profile's film fit and Nix-Gao
+        print(dumps({"film": film.to_dict(),
+                     "nix_gao": nix_gao.to_dict() if nix_gao is not None else None}))
     flagged = sum(1 for r in analysed if r["flags"])
     print(f"analysed {len(analysed)} of {len(records)} curves from {len(files)} files in "
           f"{elapsed:.2f} s; {flagged} with flags, {len(records) - len(analysed)} not analysed",
@@ -294,8 +372,9 @@ def cmd_indent_analyze(args) -> int:
     if profile is not None and not args.json:
         print(profile.summary())
         if nix_gao is not None:
-            print(f"Nix-Gao: H0 = {nix_gao.H0 / 1e9:.4g} +- {nix_gao.H0_std / 1e9:.2g} GPa, "
-                  f"h* = {nix_gao.h_star * 1e9:.4g} +- {nix_gao.h_star_std * 1e9:.2g} nm")
+            print(_nix_gao_line(nix_gao))
+    if film is not None and not args.json:
+        print(film.summary())
 
     if args.out:
         from filmscale.core.provenance import provenance
@@ -305,6 +384,7 @@ def cmd_indent_analyze(args) -> int:
         if profile is not None:
             profile_data = profile.to_dict()
             profile_data["nix_gao"] = nix_gao.to_dict() if nix_gao is not None else None
+            profile_data["film"] = film.to_dict() if film is not None else None
         write_indentation_results(args.out, records, provenance(command=" ".join(sys.argv)),
                                   options_dict(options), profile_data)
         print(f"wrote {args.out}", file=sys.stderr)
@@ -322,7 +402,7 @@ def cmd_indent_analyze(args) -> int:
         except InputError:          # too few indents between interfaces for the lines
             fit = None
         plot_property_profile(profile, Path(args.plot) / "profile.png", nix_gao, fit,
-                              DIAMOND.compliance, title=f"{len(analysed)} indents")
+                              DIAMOND.compliance, title=f"{len(analysed)} indents", film=film)
     if unreadable:
         return 2
     return 0 if analysed else 1

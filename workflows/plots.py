@@ -362,13 +362,16 @@ def plot_csm(curve, result, path=None, title: str = "") -> Figure:
 
 
 def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
-                          indenter_compliance=0.0, title: str = "") -> Figure:
+                          indenter_compliance=0.0, title: str = "", film=None) -> Figure:
     """E_r and H against contact depth: every indent, group means with their standard
     deviation, layer bands, the piecewise fit (a `TableProfile`, E_r recomputed with the
-    indenter compliance, 1/Pa) and the Nix-Gao curve when given; the Figure, also saved to
-    ``path`` when given."""
-    fig, axes = _figure(1, 2, figsize=(9.5, 4.0), sharex=True)
-    edges = [0.0, *profile.interfaces, float(np.max(profile.h_c)) * 1.05]
+    indenter compliance, 1/Pa), the Nix-Gao curve when given and identified (else a
+    horizontal line at the depth-independent H0), and a film/substrate model's fitted E_r(h_c)
+    with the indents it was fitted on (``film``, a `FilmModulus`); the Figure, also saved to
+    ``path`` when given. Legends sit below the axes, off the data."""
+    fig, axes = _figure(1, 2, figsize=(10.0, 4.8), sharex=True)
+    top = float(np.max(profile.h_c)) * 1.05
+    edges = [0.0, *profile.interfaces, top]
     for ax, key, name in ((axes[0], "E_r", "reduced modulus E_r (GPa)"),
                           (axes[1], "H", "hardness H (GPa)")):
         for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
@@ -383,17 +386,44 @@ def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
                     color="tab:blue", capsize=2, label="mean +- std")
         ax.set_xlabel("contact depth h_c (nm)")
         ax.set_ylabel(name)
+        ax.set_xlim(0.0, top * 1e9)
+        ax.yaxis.set_major_locator(MaxNLocator(6, steps=[1, 2, 2.5, 5, 10]))
     if fit is not None:
         E_r = 1.0 / (1.0 / fit.plane_strain_modulus + indenter_compliance)
         axes[0].plot(fit.depths * 1e9, E_r / 1e9, "-", color="tab:orange", label="piecewise fit")
         axes[1].plot(fit.depths * 1e9, fit.hardness / 1e9, "-", color="tab:orange",
                      label="piecewise fit")
-        axes[0].legend(fontsize=7)
+    if film is not None:
+        # the model's E_r(h_c) with a(h_c) from the fitted indents' a/h_c (held at its end
+        # values beyond them), their points ringed, t/10 and t marked
+        order = np.argsort(film.h_c)
+        hs, ratio = film.h_c[order], (film.a / film.h_c)[order]
+        h = np.geomspace(max(float(np.min(profile.h_c)), 1e-3 * top), top, 60)
+        a = h * np.interp(np.log(h), np.log(hs), ratio)
+        axes[0].plot(h * 1e9, film.reduced_modulus(a, h) / 1e9, "-", color="tab:green",
+                     label=f"{film.model}: E_f = {film.E / 1e9:.4g} GPa")
+        axes[0].plot(film.h_c * 1e9, film.E_r / 1e9, "o", ms=7, mfc="none", mec="tab:green",
+                     mew=1.2, label=f"fitted ({film.points} indents, h_c >= t/10)")
+        for depth, style in ((film.min_depth, ":"), (film.thickness, "--")):
+            if depth <= top:
+                axes[0].axvline(depth * 1e9, color="tab:green", ls=style, lw=0.8)
+        for depth, label in ((film.min_depth, "t/10"), (film.thickness, "t")):
+            if depth <= top:
+                axes[0].text(depth * 1e9, 0.98, f" {label}", color="tab:green", fontsize=8,
+                             va="top", transform=axes[0].get_xaxis_transform())
     if nix_gao is not None:
         h = np.linspace(profile.h_c.min(), profile.h_c.max(), 200)
-        axes[1].plot(h * 1e9, nix_gao.hardness(h) / 1e9, "-", color="tab:red",
-                     label=f"Nix-Gao H0 = {nix_gao.H0 / 1e9:.3g} GPa, "
-                           f"h* = {nix_gao.h_star * 1e9:.3g} nm")
-    axes[1].legend(fontsize=7)
+        if getattr(nix_gao, "identified", True):
+            axes[1].plot(h * 1e9, nix_gao.hardness(h) / 1e9, "-", color="tab:red",
+                         label=f"Nix-Gao H0 = {nix_gao.H0 / 1e9:.3g} GPa, "
+                               f"h* = {nix_gao.h_star * 1e9:.3g} nm")
+        else:
+            axes[1].axhline(nix_gao.H0 / 1e9, color="tab:red", ls="--",
+                            label=f"depth-independent H = {nix_gao.H0 / 1e9:.3g} GPa "
+                                  f"(Nix-Gao h* not identified)")
+    for ax in axes:
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2,
+                  frameon=False)
     fig.suptitle(title, fontsize=10)
     return _done(fig, path)
+

@@ -251,6 +251,11 @@ class TableProfile(DepthProfile):
             Poisson ratio of the target, used by the yield criteria of the contact laws.
         hardness_factor : float
             k_T in sigma_y = H / k_T; pass the contact law's ``hardness_factor``.
+
+        The profile never leaves the range of its data: each knot's value of E_p and H is
+        clipped to [min, max] of the measured values of the indents in the pieces that meet
+        at that knot (the indents its value is fitted from), so a least-squares line cannot
+        dip below (or rise above) every indent near it, nor go to zero.
         """
         h_c, E_r, H = (np.asarray(v, dtype=float) for v in (h_c, E_r, H))
         if not (h_c.ndim == E_r.ndim == H.ndim == 1):
@@ -294,14 +299,23 @@ class TableProfile(DepthProfile):
                              f"enough indents to fit a line")
         fits, std = [], {}
         for name, values in (("E_p", e_p), ("H", H)):
-            coef = np.linalg.lstsq(basis, values, rcond=None)[0]
-            if np.any(coef <= 0):
-                raise InputError(f"the piecewise fit of {name} goes to {coef.min():.4g} Pa "
-                                 f"at a knot: use fewer breakpoints or more indents")
+            coef = _clip_to_pieces(np.linalg.lstsq(basis, values, rcond=None)[0], knots,
+                                   h_c, values)
             fits.append(coef)
             std[name] = float(np.std(values - basis @ coef))
         return cls(depths=knots, plane_strain_modulus=fits[0], hardness=fits[1],
                    hardness_factor=hardness_factor, nu=nu, fit_std=std)
+
+
+def _clip_to_pieces(coef, knots, h_c, values):
+    """Each knot's value clipped to [min, max] of ``values`` at the indents between its
+    neighbouring knots (the support of its piecewise-linear basis function)."""
+    out = coef.copy()
+    for k in range(knots.size):
+        lo, hi = knots[max(k - 1, 0)], knots[min(k + 1, knots.size - 1)]
+        near = values[(h_c >= lo) & (h_c <= hi)]
+        out[k] = np.clip(coef[k], near.min(), near.max())
+    return out
 
 
 def profile_for(target) -> DepthProfile:

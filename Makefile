@@ -37,6 +37,8 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/md_overhead.py
 	$(BIN)/python benchmarks/particles_convergence.py
 	$(BIN)/python benchmarks/joint_calibration.py
+	$(BIN)/python benchmarks/coated_accuracy.py
+	$(BIN)/python benchmarks/sneddon_bias.py
 	$(BIN)/python benchmarks/md_closure.py
 	$(BIN)/python benchmarks/md_speed_vs_error.py
 

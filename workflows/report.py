@@ -287,6 +287,12 @@ def scene_figure(result):
     return fig
 
 
+def _wrapped(text: str, width: int) -> str:
+    """``text`` in lines of at most ``width`` characters, for a panel title."""
+    import textwrap
+    return "\n".join(textwrap.wrap(text, width))
+
+
 def _bounded_quantity(parameter: dict) -> str:
     """A calibrated value with its std for people; ">= value" for a lower bound."""
     if parameter.get("lower_bound"):
@@ -368,7 +374,8 @@ def write_report(result, out=None) -> Path:
                       _table(rows, ("parameter", "value +- 1 std", "identified")),
                       *([_pop_in_text(cal["pop_in"])] if cal.get("pop_in") else []),
                       *(f"<p><b>{html.escape(c.text())}</b></p>" for c in _checks(g)),
-                      _panel(_draw_calibration, g, f"{cal['layer']}: {cal['model']}"),
+                      _panel(_draw_calibration, g, _wrapped(f"{cal['layer']}: {cal['model']}",
+                                                           62)),
                       _panel(_draw_residuals, g)]
             if cal.get("components"):
                 parts.append(_table(

@@ -16,6 +16,7 @@ from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
 from tests.workflows import test_calibration as tc
+from tests.workflows.test_pipeline import BASE
 
 E, NU, SY, R = 120e9, 0.3, 3e9, 5e-6
 LAW = contact_law("komvopoulos-ye-continuous")
@@ -147,30 +148,13 @@ def test_sharp_curves_of_one_material_at_three_depths_identify_no_h_star(tmp_pat
                for line in err.splitlines())
 
 
-SCENE = """
-[impactor]
-radius = 1e-6
-mass = 1e-12
-velocity = 1.0
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-[[target.layers]]
-name = "film"
-thickness = 200e-9
-nu = 0.3
-[target.layers.calibrate]
-curves = ["film.csv"]
-tip = "sphere:5um"
-tolerance = {tolerance}
-[outputs]
-want = ["maxima"]
-tolerance = 0.05
-[model]
-contact_law = "komvopoulos-ye-continuous"
-"""
+def _scene_text(tolerance: float) -> str:
+    """The pipeline tests' scene with its film calibrated from film.csv at ``tolerance``."""
+    film = (f'[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"\n'
+            f"tolerance = {tolerance}")
+    return BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
+                       want='["maxima"]') + \
+        '[model]\ncontact_law = "komvopoulos-ye-continuous"\n'
 
 
 @pytest.mark.parametrize("tolerance, status", [(0.03, 0), (0.002, 1)])
@@ -181,7 +165,7 @@ def test_run_strict_exits_1_on_a_failed_layer_check_after_writing(tmp_path, caps
     written either way and holds the failed check."""
     _sphere_file(tmp_path / "film.csv", 20 * DY)
     scene = tmp_path / "scene.toml"
-    scene.write_text(SCENE.format(tolerance=tolerance))
+    scene.write_text(_scene_text(tolerance))
     out = tmp_path / "r.h5"
     got = main(["run", str(scene), "--store", str(tmp_path / "store"), "--out", str(out),
                 "--strict"])

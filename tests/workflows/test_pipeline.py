@@ -71,6 +71,21 @@ def test_thick_stiff_film_under_a_small_sphere_is_modelled():
     assert plan.decisions["target"] == "layered"
 
 
+def test_the_layered_step_states_the_weighting_error_it_carries():
+    """One film: the plan states the Gao weighting's elastic load error at the deepest
+    approach against the exact layered solution. A 300 GPa film on 90 GPa glass is far off
+    (Gao's linear weighting of moduli at this mismatch: docs/layered-contact.md gives +12 to
+    +74 % at 5.7 : 1); a 40 GPa film on it, ratio 0.46, within a few %."""
+    import re
+    def stated(film, t):
+        step = next(s for s in plan_scene(scene(t=t, R=1e-6, m=1e-12, V=1.0, film=film)).steps
+                    if s.name == "target")
+        assert step.model.startswith("layered profile")
+        return float(re.search(r"([+-][0-9.]+)% in elastic load", step.error).group(1))
+    assert stated("E = 300e9\nsigma_y = 8e9", 200e-9) > 10
+    assert abs(stated("E = 40e9\nsigma_y = 1e9", 50e-9)) < 5
+
+
 def test_hertz_where_nothing_yields_and_the_law_where_it_does():
     slow = plan_scene(scene(V=1e-3))
     assert slow.decisions["law"] == "hertz"

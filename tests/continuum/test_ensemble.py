@@ -35,7 +35,7 @@ def test_an_ensemble_gives_the_parameters_its_scatter_and_its_pop_in_statistics(
     cal = calibrate_ensemble(curves, nu=tc.NU, tip_material="rigid")
     assert abs(cal.E.value - tc.E) < 3 * cal.E.std
     assert abs(cal.sigma_y.value - tc.SY) < 3 * cal.sigma_y.std
-    assert "mean of 5 members" in cal.uncertainty and len(cal.fitted_curves) == 5
+    assert "one fit of 5 members" in cal.uncertainty and len(cal.fitted_curves) == 5
     # the pop-in: each member's peak is its last Hertz point, or the one before where the
     # load noise makes that one higher (grid step 0.075 dy); Hertz's shear stress from the
     # depth alone, with the calibrated E*

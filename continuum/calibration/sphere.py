@@ -38,7 +38,7 @@ from filmscale.core.errors import InputError
 from .pop_in import pop_in_statistics
 from .result import (FITS_E, FITS_SIGMA_Y, IDENTIFIABLE_RSD, Calibration, Parameter,
                      modulus_parameter)
-from .target import SphereTarget
+from .target import EXACT_MAX_RADIUS, SphereTarget
 
 
 #: E* of a curve with a pop-in comes from the Hertz points below this fraction of the pop-in
@@ -218,15 +218,17 @@ def _pop_in_roles(data, fraction, yielded: bool) -> tuple:
     return tuple(roles)
 
 
-def _fitted_with_pop_in(data, law, target, E_star, sigma_y, h0=0.0):
-    """(h, P, the pop-in law's force) of each curve: Hertz with the E* felt at each approach
-    up to the curve's pop-in, the law after it (all of a curve without one)."""
+def _fitted_with_pop_in(data, law, target, E_star, sigma_y, h0=0.0, exact=False):
+    """(h, P, the pop-in law's force) of each curve: the elastic loading
+    (`SphereTarget.hertz`) up to the curve's pop-in, the law after it (all of a curve
+    without one)."""
     out = []
     for (h, P, F), (_, _, r, _, pop) in zip(_fitted(data, law, target, E_star, sigma_y, h0),
                                             data):
         if pop is not None:
             F = F.copy()
-            F[:pop + 1] = target.hertz(np.clip(h[:pop + 1] - h0, 0.0, None), r, E_star, law)
+            F[:pop + 1] = target.hertz(np.clip(h[:pop + 1] - h0, 0.0, None), r, E_star, law,
+                                       exact)
         out.append((h, P, F))
     return tuple(out)
 
@@ -358,11 +360,14 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
     # P = E* x with x = 4/3 sqrt(R) h^1.5, which gives the start
     x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
     y = np.concatenate([P / Pm for h, P, r, Pm in pre])
+    # a film under a rigid tip: the exact layered elastic solution, not the Gao weighting
+    # (1-3 % off in load for the MD demo's Cu on Ni, docs/layered-contact.md)
+    exact = all(target.exact_elastic(float(h.max()), r) for h, P, r, Pm in pre)
 
     def elastic_residuals(theta):
         (ln_e,), h0 = zero.split(theta)
-        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e), law)
-                                - P) / Pm for h, P, r, Pm in pre])
+        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e), law,
+                                             exact) - P) / Pm for h, P, r, Pm in pre])
     efit = least_squares(elastic_residuals, zero.start([math.log(float(x @ y / (x @ x)))]),
                          diff_step=1e-6, xtol=1e-14, ftol=1e-14,
                          bounds=zero.bounds(-np.inf, np.inf))
@@ -402,7 +407,12 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
         sigma_param = _lower_bound(post or zero.shifted(pre, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
     warnings += zero.note(h0)
-    fitted = _fitted_with_pop_in(data, law, target, E_star, sigma_param.value, h0)
+    fitted = _fitted_with_pop_in(data, law, target, E_star, sigma_param.value, h0, exact)
+    if target.layered:
+        warnings.append("elastic loading on the film: " + (
+            "the exact layered solution (Perriot & Barthel 2004)" if exact else
+            "Gao-weighted (the exact layered solution needs a rigid tip and contact radii "
+            f"up to {EXACT_MAX_RADIUS:g} film thicknesses)"))
     resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
     stats = pop_in_statistics(curves, E_star, target)
     return Calibration(
@@ -415,7 +425,9 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
         fit_roles=_pop_in_roles(data, fraction, sigma_param.identified),
         correlation=correlation if sigma_param.identified else 0.0,
         pop_in=None if stats is None else stats.to_dict(),
-        **{**common, "model": f"pop-in law (elastic to the pop-in load, then {common['model']})"})
+        **{**common, "model": "pop-in law (elastic to the pop-in load"
+                   + (": the exact layered solution" if exact else "")
+                   + f", then {common['model']})"})
 
 
 def _correlation(cov: float, std_a: float, std_b: float) -> float:

@@ -40,6 +40,10 @@ from filmscale.core.quantities import eng
 
 #: what a tip is made of: rigid (the tips of MD and particle runs) or diamond (measured)
 TIP_MATERIALS = ("rigid", "diamond")
+#: a film's elastic loading comes from the exact layered solution up to this contact radius
+#: in film thicknesses (0.04 s a solution there); beyond, the film's share is below 1 % and
+#: the Gao weighting serves
+EXACT_MAX_RADIUS = 100.0
 #: how a sphere calibration places the contact zero: fitted with E* or fixed at the
 #: curve's h = 0
 CONTACT_ZEROS = ("fit", "fixed")
@@ -127,10 +131,35 @@ class SphereTarget:
         branch = law.branch_of(severity)
         return law.force_area(delta, R, *props, branch)[0], branch
 
-    def hertz(self, delta, R, E_star, law: ContactLaw | None = None):
-        """The elastic force (N) with the reduced modulus felt at each approach: the loading
-        before a pop-in. Hertz's paraboloid (Johnson 1985), or Sneddon's exact sphere when
-        ``law`` has Sneddon's elastic branch (`contact.sneddon.SneddonElastic`)."""
+    def exact_elastic(self, delta_max: float, R: float) -> bool:
+        """Whether the elastic loading before a pop-in is taken from the exact layered
+        solution (`contact.coated`): a film under a rigid tip (the solution's indenter),
+        at contact radii up to `EXACT_MAX_RADIUS` film thicknesses."""
+        return (self.layered and self.indenter is None
+                and math.sqrt(R * delta_max) <= EXACT_MAX_RADIUS * self.thickness)
+
+    def hertz(self, delta, R, E_star, law: ContactLaw | None = None, exact: bool = False):
+        """The elastic force (N) at approaches ``delta``: the loading before a pop-in.
+
+        A half-space (or ``exact`` False): Hertz's paraboloid (Johnson 1985) with the reduced
+        modulus felt at each approach (Gao-weighted on a film), or Sneddon's exact sphere
+        when ``law`` has Sneddon's elastic branch (`contact.sneddon.SneddonElastic`).
+        ``exact`` (a film, `exact_elastic`): the converged layered solution of a rigid
+        paraboloid (`coated.coated_sphere_curve`), times Sneddon's ratio of the sphere to the
+        paraboloid on a half-space when ``law`` has Sneddon's branch (the two corrections
+        combined to first order)."""
+        if exact:
+            from filmscale.continuum.contact.coated import coated_sphere_curve
+            film = ElasticPlastic(self.layer_modulus(E_star), self.nu, 1.0)
+            force = coated_sphere_curve(delta, R, self.thickness, film, self.substrate)
+            if isinstance(law, SneddonElastic):
+                d = np.asarray(delta, dtype=float)
+                shape = np.ones(d.shape)
+                positive = d > 0
+                shape[positive] = (sneddon_force(d[positive], R, 1.0)
+                                   / _hertz_force(d[positive], R, 1.0))
+                force = force * shape
+            return force
         # the reduced modulus does not depend on sigma_y: any finite value serves
         felt = self.properties(delta, R, E_star, 1.0, False)[0]
         if isinstance(law, SneddonElastic):

@@ -68,8 +68,6 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.optimize import brentq
 
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
@@ -130,6 +128,7 @@ def _phi_table(ratio: float, nu_f: float, nu_s: float, eta_max: float):
     values = np.empty_like(eta)
     for i in range(0, eta.size, 256):             # bounded memory
         values[i:i + 256] = np.cos(np.outer(eta[i:i + 256], u)) @ f
+    from scipy.interpolate import CubicSpline
     return CubicSpline(eta, values, bc_type=((1, 0.0), "not-a-knot"))
 
 
@@ -259,6 +258,7 @@ def coated_sphere_load(delta, R: float, thickness: float, film: ElasticPlastic,
     delta = np.atleast_1d(np.asarray(delta, dtype=float))
     check_positive("delta", float(delta.min()), "m")
     R, t = check_positive("R", R, "m"), check_positive("thickness", thickness, "m")
+    from scipy.optimize import brentq
     E_p = film.plane_strain_modulus
 
     def solution(log_lam):
@@ -280,4 +280,38 @@ def coated_sphere_load(delta, R: float, thickness: float, film: ElasticPlastic,
         log_lam = lo if lo == hi else brentq(gap, lo, hi, xtol=1e-11, rtol=1e-12)
         a = t * math.exp(log_lam)
         out.flat[i] = solution(log_lam).p * E_p * a**3 / R
+    return out
+
+
+def coated_sphere_curve(delta, R: float, thickness: float, film: ElasticPlastic,
+                        substrate: ElasticPlastic, radii: int = 24) -> np.ndarray:
+    """`coated_sphere_load` for fits that evaluate a whole loading curve many times: the
+    converged solution at ``radii`` contact radii whose approaches bracket the given ones
+    (geometric in a, widened until they do), interpolated by a cubic spline in
+    (ln delta, ln P); 0 at approaches <= 0. About 10 times faster than `coated_sphere_load`
+    on a 100-point curve and within 1e-5 of it (test)."""
+    from scipy.interpolate import CubicSpline
+    delta = np.asarray(delta, dtype=float)
+    out = np.zeros(delta.shape)
+    positive = delta > 0
+    if not positive.any():
+        return out
+    R, t = check_positive("R", R, "m"), check_positive("thickness", thickness, "m")
+    d_min, d_max = float(delta[positive].min()), float(delta[positive].max())
+    E_p = film.plane_strain_modulus
+
+    def approach(a):
+        return _solve(a, t, film, substrate, 1e-6).q * a * a / R
+    # Hertz's a = sqrt(R delta) to start; a stiff film on a soft substrate sinks as a whole,
+    # so its approach at a given radius can be far larger: widen until bracketed
+    lo, hi = math.sqrt(R * d_min), math.sqrt(R * d_max)
+    while approach(lo) > d_min:
+        lo /= 2
+    while approach(hi) < d_max:
+        hi *= 2
+    a = np.geomspace(lo, hi, max(radii, 8))
+    sols = [_solve(float(r), t, film, substrate, 1e-6) for r in a]
+    d = np.array([s.q for s in sols]) * a * a / R
+    P = np.array([s.p for s in sols]) * E_p * a**3 / R
+    out[positive] = np.exp(CubicSpline(np.log(d), np.log(P))(np.log(delta[positive])))
     return out

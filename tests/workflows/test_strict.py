@@ -11,11 +11,10 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.contact.laws import contact_law
-from filmscale.continuum.indentation.io import write_curve_group
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
-from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
 from tests.workflows import test_calibration as tc
+from tests.workflows.test_calibrate_cli import _write
 from tests.workflows.test_pipeline import BASE
 
 E, NU, SY, R = 120e9, 0.3, 3e9, 5e-6
@@ -115,13 +114,6 @@ def test_json_keys_and_types(tmp_path, capsys):
     assert inputs["film_thickness"] is None and inputs["substrate"] is None
     assert inputs["from"] == "default"
     assert abs(d["E"] - E) < 3 * d["E_std"]
-
-
-def _write(path, curves):
-    with atomic_h5(path) as f:
-        for i, c in enumerate(curves):
-            write_curve_group(f.create_group(f"c{i}"), c)
-    return str(path)
 
 
 def test_sharp_curves_at_one_depth_try_no_depth_law(tmp_path, capsys):

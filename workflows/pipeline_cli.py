@@ -181,19 +181,27 @@ def _run_sweep_unit(args, scenes) -> int:
 
 
 def cmd_cancel(args) -> int:
+    """Cancel a store's jobs: reads ``jobs.json`` only (a read-only store works), prints the
+    ids escaped (`core.files.shown`)."""
+    from filmscale.core.files import shown
     from .slurm import cancel
-    ids = cancel(Path(args.store))
+    ids = [shown(i) for i in cancel(Path(args.store))]
     print(f"filmscale: cancelled {' '.join(ids) if ids else 'nothing (no job left)'}",
           file=sys.stderr)
     return 0
 
 
 def cmd_status(args) -> int:
+    """Every unit of a store (`units.unit_states`: creates no file, so a read-only store
+    works); the text prints every name, state and reason escaped (`core.files.shown`: a
+    folder name with a terminal escape sequence prints as its escapes), the JSON as JSON
+    escapes them."""
+    from filmscale.core.files import shown
     from .slurm import queue_states, read_jobs
     from .units import unit_states
     store = Path(args.store)
     if not store.is_dir():
-        raise InputError(f"store {store} is not a folder")
+        raise InputError(f"store {shown(store)} is not a folder")
     rows = unit_states(store)
     jobs = read_jobs(store).get("units", {})
     queue = queue_states(jobs.values())
@@ -207,13 +215,13 @@ def cmd_status(args) -> int:
         print(dumps(rows))
         return 0
     for r in rows:
-        extra = (f"  job {r['job']}" if "job" in r else "") + \
+        extra = (f"  job {shown(r['job'])}" if "job" in r else "") + \
             (f"  {r['wall_time']:.0f} s" if "wall_time" in r else "") + \
-            (f"  ({r['why']})" if "why" in r else "")
-        print(f"{r['unit']:<40} {r['state']:<11}{extra}")
+            (f"  ({shown(r['why'])})" if "why" in r else "")
+        print(f"{shown(r['unit']):<40} {shown(r['state']):<11}{extra}")
     counts = {s: sum(r["state"] == s for r in rows) for s in dict.fromkeys(
         r["state"] for r in rows)}
-    print(", ".join(f"{n} {s}" for s, n in counts.items()) or "no units")
+    print(", ".join(f"{n} {shown(s)}" for s, n in counts.items()) or "no units")
     return 0
 
 

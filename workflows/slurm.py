@@ -16,13 +16,14 @@ answers with ``scontrol requeue`` of its own task, at most `MAX_REQUEUES` times.
 from __future__ import annotations
 
 import math
+import os
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 from filmscale.core.errors import EngineError, InputError
-from filmscale.core.files import read_json, write_json
+from filmscale.core.files import read_json, shown, write_json
 from filmscale.workflows.plan import md_cost_s
 from filmscale.workflows.sweep import SweepScene
 from filmscale.workflows.units import check_unit, run_unit_path
@@ -162,16 +163,20 @@ def submit_sweep(sweep_file: Path, name: str, scenes: list[SweepScene], store: P
 
 def read_jobs(store: Path) -> dict:
     """The jobs `submit_sweep` recorded in the store ({} when none); InputError when the
-    file is damaged."""
+    file is damaged or a symbolic link (the store follows no links). Read only, with the
+    bounded reader (`core.files.read_json`: size, nesting): a read-only store works."""
     path = Path(store) / "jobs.json"
+    if os.path.islink(path):
+        raise InputError(f"jobs file {shown(path)} is a symbolic link: the store follows no "
+                         "links; remove it")
     if not path.exists():
         return {}
     jobs = read_json(path, "jobs file")
     if not isinstance(jobs, dict) or not all(
             isinstance(jobs.get(key), dict) and all(isinstance(j, str) for j in jobs[key].values())
             for key in ("units", "scenes")):
-        raise InputError(f"jobs file {path} is damaged: it lacks the job ids of the units and "
-                         "scenes that filmscale sweep submit records")
+        raise InputError(f"jobs file {shown(path)} is damaged: it lacks the job ids of the "
+                         "units and scenes that filmscale sweep submit records")
     return jobs
 
 
@@ -189,7 +194,8 @@ def cancel(store: Path) -> list[str]:
     """Cancel the store's recorded jobs still queued or running; their ids."""
     jobs = read_jobs(store)
     if not jobs:
-        raise InputError(f"store {store} has no jobs.json: nothing was submitted there")
+        raise InputError(f"store {shown(store)} has no jobs.json: nothing was submitted "
+                         "there")
     ids = [*jobs["units"].values(), *jobs["scenes"].values()]
     live = sorted({j.split("_")[0] for j in queue_states(ids)})
     if live:

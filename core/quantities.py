@@ -2,8 +2,11 @@
 (`to_si`), and SI numbers written for people in engineering units (`eng`: "617.5 nm",
 "7.133 GPa"). Files and JSON stay in SI; only what people type and read carries units.
 
-pint parses the text, imported on the first string that is not a bare number, so that a
-command given SI numbers never loads it.
+pint parses the unit, imported on the first string that is not a bare number, so that a
+command given SI numbers never loads it. The number is read here first, in one strict format
+(a sign, ASCII digits with at most one decimal point, an exponent): pint alone reads "10,5 um"
+as 105 um, "10 5 um" as 50 um and "1.6.1 mg" as 0.16 mg, where these are refused saying what
+was likely meant.
 """
 
 from __future__ import annotations
@@ -25,7 +28,18 @@ _EXAMPLES = {"m": "10 um", "Pa": "90 GPa", "m/s": "0.5 m/s", "kg": "1.6 mg", "N"
              "J": "1 nJ"}
 #: longer text is not a quantity (and is not handed to the parser)
 _MAX_TEXT = 100
-_LEADING_NUMBER = re.compile(r"^[-+]?(\d|\.\d)")
+#: the one number format read: a sign, ASCII digits with at most one decimal point (``.5``
+#: and ``5.`` too), an exponent; no decimal comma, no thousands separators
+_NUMBER = r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+_BARE = re.compile(rf"{_NUMBER}|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
+#: a number, then the unit: starting with a letter, ``°``, ``%``, ``/`` or ``1/`` (``1/s``)
+_QUANTITY = re.compile(rf"({_NUMBER})\s*((?:[^\W\d_]|[°%/]|1\s*/).*)", re.DOTALL)
+#: the digits a unit may hold: a power (``m^2``, ``m**-1``, ``m^(1/2)``), digits right after
+#: a letter (``cm3``) and the 1 of a leading ``1/``
+_UNIT_DIGITS = re.compile(r"^1(?=\s*/)|(?<=[^\W\d_])[0-9]+|(?:\^|\*\*)\s*\(?\s*[-+]?[0-9]+"
+                          r"(?:\.[0-9]+)?(?:\s*/\s*[0-9]+)?\s*\)?")
+#: the leading digits, marks and blanks of a quantity that is not in the one format
+_HEAD = re.compile(r"([-+]?)([0-9.,_'\s]*[0-9]\.?)\s*(.*)", re.DOTALL)
 
 
 @functools.lru_cache(maxsize=1)
@@ -39,30 +53,36 @@ def to_si(name: str, value, unit: str, text_numbers: bool = True):
     "degree"): text with units ("10 um", "5 µm", "90 GPa") is converted, text that is a bare
     number is that number in SI (refused when not ``text_numbers``: a scene writes numbers
     without quotes), and anything else (numbers, lists, None) is returned as it is for the
-    range checks to judge. Raises InputError naming ``name``, the value and the unit
-    expected when the text is not a quantity or has another dimension."""
+    range checks to judge. The number is in one format (`_NUMBER`: no decimal comma, no
+    thousands separators, one number) and the unit after it starts with a letter. Raises
+    InputError naming ``name``, the value and the unit expected when the text is not a
+    quantity or has another dimension, and what was likely meant for a number in another
+    format ("10,5 um": write 10.5 um)."""
     if not isinstance(value, str):
         return value
     measure = _MEASURES.get(unit, f"a quantity in {unit}")
     expected = (f"{measure} in {unit} or with units, such as "
                 f"{_EXAMPLES.get(unit, '1 ' + unit)!r}")
     text = value.strip()
-    try:
-        number = float(text)
-    except ValueError:
-        pass
-    else:
+    if _BARE.fullmatch(text):
         if text_numbers:
-            return number
+            return float(text)
         raise InputError(f"{name} must be a number, got {value!r} (a number without quotes, "
                          f"or {expected})")
-    # a quantity starts with its number: pint alone would read "a" as a year, "m" as 1 m
-    if not _LEADING_NUMBER.match(text) or len(text) > _MAX_TEXT:
+    match = _QUANTITY.fullmatch(text) if len(text) <= _MAX_TEXT else None
+    if match is None or re.search(r"[0-9]", _UNIT_DIGITS.sub("", match.group(2))):
+        # a quantity starts with its number, in one format: pint alone would read "a" as a
+        # year, "m" as 1 m, "10 5 um" as 50 um and "10,5 um" as 105 um
+        reason = _misread(text)
+        if reason:
+            raise InputError(f"{name} = {value!r}: {reason}")
         raise InputError(f"{name} must be a number, got {value!r} (or {expected})")
     import pint
     ureg = _registry()
     try:
-        quantity = ureg.Quantity(text)
+        # a power written right after its unit ("g/cm3") as pint reads it ("g/cm^3")
+        unit_text = re.sub(r"(?<=[^\W\d_])([0-9]+)", r"^\1", match.group(2))
+        quantity = ureg.Quantity(f"{match.group(1)} {unit_text}")
     except Exception:       # pint's tokenizer and parser raise many kinds on malformed text
         raise InputError(f"{name} must be a number, got {value!r} (or {expected})") from None
     try:
@@ -80,6 +100,51 @@ def to_si(name: str, value, unit: str, text_numbers: bool = True):
         # 1.6e-6 is (1.6 * 1e-6 is not)
         return float(Decimal(repr(magnitude)).scaleb(exponent))
     return magnitude * factor
+
+
+def _misread(text: str) -> str | None:
+    """Why ``text``, not in the one number format, is refused and what was likely meant: a
+    decimal comma, thousands separators, two numbers, a second decimal point; None when
+    it does not start with a number at all."""
+    match = _HEAD.fullmatch(text) if len(text) <= _MAX_TEXT else None
+    if match is None:
+        return None
+    sign, head, rest = match.groups()
+    head = re.sub(r"\s+", " ", head)
+    unit = f" {rest}" if rest else ""
+    if re.fullmatch(r"[0-9]{1,3}(?:\.[0-9]{3})+,[0-9]+", head):
+        whole, frac = head.split(",")
+        return (f"thousands separators and a decimal comma; write "
+                f"{sign}{whole.replace('.', '')}.{frac}{unit}")
+    if re.fullmatch(r"[0-9]{1,3}(?:,[0-9]{3})+(?:\.[0-9]*)?", head):
+        if "." in head or head.count(",") > 1:
+            return f"thousands separators; write {sign}{head.replace(',', '')}{unit}"
+        return (f"write {sign}{head.replace(',', '.')}{unit} (a decimal point, not a comma) "
+                f"or {sign}{head.replace(',', '')}{unit} (no thousands separators)")
+    if re.fullmatch(r"[0-9]*,[0-9]+", head):
+        return f"write {sign}{head.replace(',', '.')}{unit} (a decimal point, not a comma)"
+    if re.fullmatch(r"[0-9]{1,3}(?:[_'][0-9]{3})+(?:\.[0-9]*)?|[0-9]{1,3}(?: [0-9]{3}){2,}",
+                    head):
+        plain = re.sub(r"[_' ]", "", head)
+        return f"thousands separators; write {sign}{plain}{unit}"
+    words = head.split(" ")
+    if len(words) == 2 and all(w.isdigit() for w in words):
+        return (f"two numbers; write one, e.g. {sign}{''.join(words)}{unit} or "
+                f"{sign}{'.'.join(words)}{unit}")
+    if len(words) > 1:
+        return f"{len(words)} numbers ({', '.join(words)}); write one number before the unit"
+    if "," in head:
+        return "a comma in the number; write it with a decimal point and no commas"
+    if head.count(".") > 1:
+        return "more than one decimal point"
+    if re.match(r"[0-9]", rest):
+        return "two numbers; write one number before the unit"
+    if re.search(r"[0-9]", _UNIT_DIGITS.sub("", rest)):
+        return (f"a number in the unit {rest!r}; write one number, then the unit "
+                "(powers as m^2)")
+    if rest and not re.match(r"[^\W\d_]|[°%/]", rest):
+        return f"the unit {rest!r} after the number must start with a letter"
+    return None
 
 
 #: prefixes by power of ten

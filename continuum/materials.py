@@ -34,6 +34,13 @@ class ElasticPlastic:
         (Dao et al. 2001). The impact contact laws are elastic-perfectly plastic and ignore it.
     name : str
         Label used in reports.
+
+    A material is checked when it is made: E must be that of a real solid
+    (`filmscale.core.checks.MODULUS_PLAUSIBLE`, 0.1 GPa to 2 TPa; a unit slip such as 90 for
+    90 GPa is refused with the value meant), sigma_y > 0 and below E (yield strains of 1 and
+    more do not exist), nu in (-1, 0.5) and n in [0, 1); InputError names the parameter
+    (``name.E`` when the material has a name). Fits that try values outside these ranges
+    build their trial materials with `_trial`.
     """
 
     E: float
@@ -43,16 +50,36 @@ class ElasticPlastic:
     name: str = ""
 
     def __post_init__(self):
+        self._check(plausible=True)
+
+    @classmethod
+    def _trial(cls, E, nu, sigma_y=math.inf, n=0.0, name: str = "") -> "ElasticPlastic":
+        """A material of a fit's trial values: range-checked (E in (0, MODULUS_MAX], sigma_y
+        > 0, nu and n as always) but not for physical plausibility, because least squares
+        and scans step through moduli and strengths no real solid has (a film's E from 1 MPa
+        to 100 TPa in `film_modulus`, sigma_y above a trial E) on their way to the answer.
+        Internal: what a user makes goes through the checked constructor."""
+        material = object.__new__(cls)
+        for key, value in (("E", E), ("nu", nu), ("sigma_y", sigma_y), ("n", n),
+                           ("name", name)):
+            object.__setattr__(material, key, value)
+        material._check(plausible=False)
+        return material
+
+    def _check(self, plausible: bool) -> None:
         label = f"{self.name}." if self.name else ""
-        object.__setattr__(self, "E", check_real(f"{label}E", self.E, low=0.0, low_open=True,
-                                                 high=MODULUS_MAX, unit="Pa"))
-        object.__setattr__(self, "nu", check_real(f"{label}nu", self.nu, low=-1.0, high=0.5,
-                                                  low_open=True, high_open=True))
-        sy = check_real(f"{label}sigma_y", self.sigma_y, low=0.0, high=math.inf, low_open=True,
-                        unit="Pa")
-        object.__setattr__(self, "sigma_y", sy)
-        object.__setattr__(self, "n", check_real(f"{label}n", self.n, low=0.0, high=1.0,
-                                                 high_open=True))
+        E = check_real(f"{label}E", self.E, low=0.0, low_open=True, high=MODULUS_MAX,
+                       unit="Pa")
+        nu = check_real(f"{label}nu", self.nu, low=-1.0, high=0.5, low_open=True,
+                        high_open=True)
+        sy = check_real(f"{label}sigma_y", self.sigma_y, low=0.0, high=math.inf,
+                        low_open=True, unit="Pa")
+        n = check_real(f"{label}n", self.n, low=0.0, high=1.0, high_open=True)
+        if plausible:
+            check_modulus(f"{label}E", E, "Young's modulus")
+            check_yield_strength(f"{label}sigma_y", sy, E, f"{label}E")
+        for key, value in (("E", E), ("nu", nu), ("sigma_y", sy), ("n", n)):
+            object.__setattr__(self, key, value)
 
     @property
     def plane_strain_modulus(self) -> float:
@@ -105,12 +132,22 @@ def check_plausible(material: ElasticPlastic, label: str = "") -> ElasticPlastic
     """``material`` when it could be a real solid: E within `MODULUS_PLAUSIBLE` and sigma_y
     below E (`filmscale.core.checks`); else InputError naming ``label.E`` or
     ``label.sigma_y`` (``label``: the material's name by default) and the likely unit slip.
-    The models call it at their entry; `ElasticPlastic` itself takes any positive values, as
-    fits try them."""
+    The models call it at their entry: `ElasticPlastic` checks the same when it is made, and
+    this catches a fit's unchecked trial material (`ElasticPlastic._trial`) that reaches a
+    model."""
     label = label or material.name or "material"
     check_modulus(f"{label}.E", material.E, "Young's modulus")
     check_yield_strength(f"{label}.sigma_y", material.sigma_y, material.E, f"{label}.E")
     return material
+
+
+def check_layer_count(name: str, count: int) -> int:
+    """``count`` when it is at most `MAX_LAYERS`, else InputError naming ``name``."""
+    if count > MAX_LAYERS:
+        raise InputError(f"{name} has {count} layers, more than the limit of {MAX_LAYERS} "
+                         "(real film stacks have tens; every layer costs each contact point "
+                         "a term of the Gao weighting)")
+    return count
 
 
 #: Diamond indenter, the usual nanoindentation counterface (docs/physics.md section 9).
@@ -134,9 +171,18 @@ class Layer:
                                       low_open=True, high=THICKNESS_MAX, unit="m"))
 
 
+#: the most layers a stack takes: real magnetic disks have fewer than 20 and multilayer
+#: mirrors and superlattices a few hundred, while the Gao weighting costs every contact point
+#: a term per layer: at 1000 layers one impact takes 0.1 s and a 20 x 20 impact map 9 s and
+#: 1.2 GB (the weights of a 1024-point chunk over the layers); a 230,000-layer scene ran out
+#: of 3 GB of memory after 77 s
+MAX_LAYERS = 1000
+
+
 @dataclass(frozen=True)
 class LayerStack:
-    """Films on a substrate, top layer first. An empty `layers` is a homogeneous half-space."""
+    """Films on a substrate, top layer first. An empty `layers` is a homogeneous half-space.
+    At most `MAX_LAYERS` layers."""
 
     layers: tuple[Layer, ...]
     substrate: ElasticPlastic
@@ -149,6 +195,7 @@ class LayerStack:
             raise InputError(f"layers must be a sequence of Layer objects (empty for a "
                              f"half-space), got {self.layers!r}")
         layers = tuple(self.layers)
+        check_layer_count("layers", len(layers))
         for layer in layers:
             if not isinstance(layer, Layer):
                 raise InputError(f"layers must hold Layer objects, got {type(layer).__name__}")

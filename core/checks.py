@@ -4,7 +4,9 @@ with a message that names the parameter, its value and the valid range."""
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable
+from pathlib import Path
 
 import numpy as np
 
@@ -134,6 +136,23 @@ def check_int(name: str, value, low: int, high: int) -> int:
     if x != int(x):
         raise InputError(f"{name} = {value!r} must be an integer in [{low}, {high}]")
     return int(x)
+
+
+def check_path(name: str, value) -> Path:
+    """``value`` as a Path when it names a file: a non-empty str or an os.PathLike that gives
+    one; else InputError naming ``name`` and what it got. None, numbers (``os.stat(3)`` would
+    read file descriptor 3), bytes and open files are not file names."""
+    text = os.fspath(value) if isinstance(value, os.PathLike) else value
+    if isinstance(text, str) and text:
+        return Path(text)
+    got = "an empty name" if isinstance(text, str) else "None" if value is None else \
+        f"{type(value).__name__} {_short_repr(value)}"
+    raise InputError(f"{name} must be a file path (str or os.PathLike), got {got}")
+
+
+def _short_repr(value, width: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= width else text[:width - 3] + "..."
 
 
 def check_choice(name: str, value, choices: Iterable[str]) -> str:

@@ -44,7 +44,7 @@ import math
 from pathlib import Path
 
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.core.checks import check_keys, check_table, required
+from filmscale.core.checks import check_keys, check_path, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
@@ -155,7 +155,7 @@ def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImp
 
 def load_spec(path: Path | str, kind: str, method: str | None = None):
     """A spec from a TOML file; ``method`` overrides the file's."""
-    path = Path(path)
+    path = check_path("path", path)
     data = read_toml(path, "spec file")     # bounded: size, text, nesting
     if method is not None:
         data["method"] = method

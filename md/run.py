@@ -22,6 +22,7 @@ from ase.io import write as ase_write
 
 from filmscale import __version__
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.core.checks import check_path
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
@@ -146,7 +147,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
 
 def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
     """The curve and files of a finished run directory (no LAMMPS)."""
-    run_dir = Path(run_dir).resolve()
+    run_dir = check_path("run_dir", run_dir).resolve()
     state = json.loads((run_dir / STATE_FILE).read_text())
     parts = state["parts"]
     rows = []

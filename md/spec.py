@@ -31,7 +31,7 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
-from filmscale.core.checks import check_keys, check_table, required
+from filmscale.core.checks import check_keys, check_path, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
@@ -131,7 +131,7 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
 
 def load_spec(path: Path | str) -> IndentSpec:
     """Read a spec file; relative potential files are found beside it."""
-    path = Path(path)
+    path = check_path("path", path)
     data = read_toml(path, "spec file")     # bounded: size, text, nesting
     return spec_from_mapping(data, path.parent)
 

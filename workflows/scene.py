@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import functools
 import math
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -27,9 +28,10 @@ from filmscale.continuum.contact.restitution import UNLOADING_MODELS
 from filmscale.continuum.indentation.io import read_table
 from filmscale.continuum.indentation.oliver_pharr import check_curve_modulus
 from filmscale.continuum.indentation.tips import parse_tip
+from filmscale.continuum.materials import check_layer_count
 from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
                                    VELOCITY_RANGE, check_choice, check_density, check_keys,
-                                   check_modulus, check_positive, check_real,
+                                   check_modulus, check_path, check_positive, check_real,
                                    check_yield_strength, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import parse_toml, read_text
@@ -48,6 +50,18 @@ _SECTIONS = {
     "contact": {"friction"},
 }
 _TOP = {"impactor", "target", "model", "map", "contact", "title", "description"}
+#: the most points of an impact map (velocities x radii or angles): a 1000 x 1000 map of a
+#: one-film scene (its layered target and the bare-substrate reference) takes 64 s and
+#: 0.64 GB on two cores; 10^7 points would take over 10 minutes and 6 GB, and the axes alone
+#: (100,000 values each, `impact_map.axis`) allow 10^10. A figure needs no more than 1000
+#: values per axis
+MAP_POINTS_MAX = 10**6
+#: the most values of one map axis (`impact_map.axis` refuses more)
+AXIS_COUNT_MAX = 100_000
+#: a [[target.layers]] table header: counted in the text before it is parsed, so that a scene
+#: of 10^5 layers is refused at once, not after seconds of TOML parsing
+_LAYER_HEADER = re.compile(r"^[ \t]*\[\[[ \t]*target[ \t]*\.[ \t]*layers[ \t]*\]\]",
+                           re.MULTILINE)
 _MATERIAL_UNITS = {"E": "Pa", "sigma_y": "Pa"}
 #: the keys that take a quantity with units ("10 um", "90 GPa") as well as a bare SI number,
 #: with their SI unit, by table; a [map] axis [min, max, count] takes them for min and max
@@ -120,6 +134,7 @@ class MapSpec:
         if self.velocity is None or self.radius is None:
             raise InputError("an impact map needs velocity and radius ranges: give "
                              "--velocity MIN:MAX:N --radius MIN:MAX:N or a [map] section")
+        check_map_points(self.velocity[2], self.radius[2], self.velocity_name, self.radius_name)
         return (axis(*self.velocity, self.spacing, self.velocity_name, VELOCITY_RANGE, "m/s"),
                 axis(*self.radius, self.spacing, self.radius_name, RADIUS_RANGE, "m"))
 
@@ -214,10 +229,42 @@ def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> Tab
 
 
 def _range(where: str, value) -> tuple[float, float, int]:
+    """[min, max, count] of a map axis: finite positive bounds and a whole count (NaN and
+    infinities refused here, before any use)."""
     if not (isinstance(value, list) and len(value) == 3):
         raise InputError(f"{where} must be [min, max, count], got {value!r}")
     return (check_positive(f"{where} minimum", value[0]),
-            check_positive(f"{where} maximum", value[1]), value[2])
+            check_positive(f"{where} maximum", value[1]), _count(f"{where} count", value[2]))
+
+
+def _count(name: str, value) -> int:
+    """A whole number of axis values in [1, AXIS_COUNT_MAX] (as `impact_map.axis` words it);
+    NaN, infinities, fractions, booleans and non-numbers are refused."""
+    if (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))
+            or not math.isfinite(value) or int(value) != value
+            or not 1 <= value <= AXIS_COUNT_MAX):
+        raise InputError(f"{name} = {value!r} must be an integer in [1, {AXIS_COUNT_MAX}]")
+    return int(value)
+
+
+def check_map_points(columns, rows, columns_name: str = "map.velocity",
+                     rows_name: str = "map.radius") -> int:
+    """The number of points of a map of ``columns`` x ``rows`` values, or InputError naming
+    both axes when it is above `MAP_POINTS_MAX`."""
+    columns, rows = _count(f"{columns_name} count", columns), _count(f"{rows_name} count", rows)
+    if columns * rows > MAP_POINTS_MAX:
+        raise InputError(f"the impact map has {columns} x {rows} = {columns * rows} points "
+                         f"({columns_name} x {rows_name}), more than the limit of "
+                         f"{MAP_POINTS_MAX} (a 1000 x 1000 map takes about a minute and "
+                         "0.6 GB; split a larger one)")
+    return columns * rows
+
+
+def check_layer_headers(text: str) -> None:
+    """InputError when the scene text holds more ``[[target.layers]]`` tables than a stack
+    takes (`materials.MAX_LAYERS`): checked before the TOML is parsed."""
+    if isinstance(text, str) and "layers" in text:
+        check_layer_count("target.layers", len(_LAYER_HEADER.findall(text)))
 
 
 def _numbers(where: str, value) -> np.ndarray:
@@ -264,6 +311,7 @@ def si_quantities(data: dict) -> dict:
 
 def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) -> Scene:
     """Validate a scene's TOML text. ``base`` is the folder that relative file names use."""
+    check_layer_headers(text)
     return scene_from_data(parse_toml(text, "scene", source), text, source, base)
 
 
@@ -325,6 +373,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     raw_layers = target.get("layers", [])
     if not isinstance(raw_layers, list):
         raise InputError("target.layers must be an array of tables ([[target.layers]])")
+    check_layer_count("target.layers", len(raw_layers))
     layers, h_star = [], []
     for i, raw in enumerate(raw_layers):
         where = f"target.layers[{i}]"
@@ -369,6 +418,8 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
         velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
         radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
         spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
+    if map_spec.velocity is not None and map_spec.radius is not None:
+        check_map_points(map_spec.velocity[2], map_spec.radius[2])
     if map_spec.radius is not None:     # the map's largest sphere carries the scene's mass
         check_density(max(map_spec.radius[:2]), impactor.mass, "map.radius maximum",
                       "impactor.mass")
@@ -380,7 +431,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
 
 def load_scene(path) -> Scene:
     """Read and validate a scene file."""
-    path = Path(path)
+    path = check_path("path", path)
     return parse_scene(read_text(path, "scene"), source=str(path), base=path.parent)
 
 
@@ -601,6 +652,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
                    ) -> PipelineScene:
     """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
     base = Path(".") if base is None else base
+    check_layer_headers(text)
     data = si_quantities(parse_toml(text, "scene", source))
     outputs = data.pop("outputs", {})
     if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
@@ -624,6 +676,8 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
                        high_open=True, unit="degrees")
     sources = []
     layers = data.get("target", {}).get("layers", [])
+    if isinstance(layers, list):
+        check_layer_count("target.layers", len(layers))
     for k, layer in enumerate(layers if isinstance(layers, list) else []):
         if not isinstance(layer, dict) or "calibrate" not in layer:
             continue
@@ -649,7 +703,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
 
 
 def load_pipeline(path) -> PipelineScene:
-    path = Path(path)
+    path = check_path("path", path)
     return parse_pipeline(read_text(path, "scene"), str(path), path.parent)
 
 

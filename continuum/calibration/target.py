@@ -24,7 +24,7 @@ so that only the elastic mismatch of the substrate is modelled.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -92,10 +92,12 @@ class SphereTarget:
         stated to be (the Hertz branch of a fit, where nothing may yield)."""
         if not self.layered:
             return E_star, sigma_y, self.nu
-        film = ElasticPlastic(self.layer_modulus(E_star), self.nu, sigma_y)
+        # a fit's trial E* and sigma_y: unchecked for plausibility (`ElasticPlastic._trial`)
+        film = ElasticPlastic._trial(self.layer_modulus(E_star), self.nu, sigma_y)
         substrate = self.substrate
         if not (yielding_substrate and math.isfinite(substrate.sigma_y)):
-            substrate = replace(substrate, sigma_y=sigma_y)
+            substrate = ElasticPlastic._trial(substrate.E, substrate.nu, sigma_y, substrate.n,
+                                              substrate.name)
         e_p, s_y, nu = StackProfile(LayerStack((Layer(self.thickness, film),),
                                                substrate)).properties(delta, R)
         return reduced_modulus(e_p, self.indenter), s_y, nu
@@ -106,7 +108,7 @@ class SphereTarget:
         half-space: what `felt` combines."""
         if not self.layered:
             return None
-        film = ElasticPlastic(self.substrate.E, self.nu, 1.0)     # E, sigma_y do not count
+        film = ElasticPlastic._trial(self.substrate.E, self.nu, 1.0)  # E, sigma_y do not count
         profile = StackProfile(LayerStack((Layer(self.thickness, film),), self.substrate))
         return profile.weights(np.asarray(delta, dtype=float), R)
 
@@ -150,7 +152,7 @@ class SphereTarget:
         combined to first order)."""
         if exact:
             from filmscale.continuum.contact.coated import coated_sphere_curve
-            film = ElasticPlastic(self.layer_modulus(E_star), self.nu, 1.0)
+            film = ElasticPlastic._trial(self.layer_modulus(E_star), self.nu, 1.0)
             force = coated_sphere_curve(delta, R, self.thickness, film, self.substrate)
             if isinstance(law, SneddonElastic):
                 d = np.asarray(delta, dtype=float)

@@ -500,6 +500,10 @@ MIN_UNLOADING_POINTS = 10     #: in the 20-98 % fit window (ISO 14577 asks for a
 OFFSET_FRACTION = 0.03        #: displacement offset flagged above this fraction of h_max
 LOAD_OFFSET_FRACTION = 0.01   #: loads below -1 % of P_max (beyond the noise): unzeroed load cell
 DRIFT_FRACTION = 0.01         #: drift over the test above 1 % of h_max is flagged
+#: a drift hold's mean load must exceed this fraction of P_max: below it (the size of a load
+#: zero's offset, `LOAD_OFFSET_FRACTION`) the tip may be out of contact; drift holds sit at
+#: about 10 % of P_max (ISO 14577-1)
+DRIFT_HOLD_MIN_LOAD = 0.01
 
 
 def displacement_offset(curve: LoadDisplacementCurve) -> float:
@@ -521,14 +525,17 @@ def displacement_offset(curve: LoadDisplacementCurve) -> float:
 
 def _hold_drift_rates(c: LoadDisplacementCurve):
     """(mean load, drift rate m/s) of each hold below half the peak load after the peak
-    (drift holds come during or after unloading, where creep has died out)."""
+    (drift holds come during or after unloading, where creep has died out) and above
+    `DRIFT_HOLD_MIN_LOAD` of it: where the load has fallen to its zero (the tail of an
+    unloading that drifts to -0.2 % of P_max) the tip is leaving the surface, and the depth
+    there measures the actuator, not the drift of a contact."""
     out = []
     if c.t is None:
         return out
     for label, start, stop in c.runs():
         if label != HOLD or stop - start < 5 or start < c.peak:
             continue
-        if np.mean(c.P[start:stop]) < 0.5 * c.P_max:
+        if DRIFT_HOLD_MIN_LOAD * c.P_max < np.mean(c.P[start:stop]) < 0.5 * c.P_max:
             skip = start + (stop - start) // 5     # the first fifth still carries creep
             rate = _line(c.t[skip:stop], c.h[skip:stop])[1]
             out.append((float(np.mean(c.P[start:stop])), float(rate)))

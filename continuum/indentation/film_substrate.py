@@ -155,8 +155,12 @@ class FilmModulus:
 
     def reduced_modulus(self, a, h_c) -> np.ndarray:
         """The model's E_r (Pa, against the indenter) at contact radius a and depth h_c (m)."""
-        e = model_modulus(self.model, a, h_c, thickness=self.thickness, film=self.film,
-                          substrate=self.substrate)
+        # the fitted E may sit at a bound of `E_BOUNDS`, outside the plausible range: the
+        # model curve is still drawn (`ElasticPlastic._trial`)
+        film = ElasticPlastic._trial(self.E, self.nu, name="film")
+        substrate = ElasticPlastic._trial(self.substrate_E, self.substrate_nu, name="substrate")
+        e = model_modulus(self.model, a, h_c, thickness=self.thickness, film=film,
+                          substrate=substrate)
         return 1.0 / (1.0 / e + self.indenter_compliance)
 
     def to_dict(self) -> dict:
@@ -233,7 +237,10 @@ def film_modulus(h_c, E_r, a=None, *, thickness: float, substrate: ElasticPlasti
     hs, es, rs = h_c[use], E_r[use], a[use]
 
     def predict(log_e):
-        film = ElasticPlastic(math.exp(float(log_e)), nu, name="film")
+        # trial moduli span E_BOUNDS (1 MPa - 100 TPa), beyond the plausible range; exp of
+        # the log of the upper bound may round above it
+        film = ElasticPlastic._trial(min(math.exp(float(log_e)), E_BOUNDS[1]), nu,
+                                     name="film")
         e = model_modulus(model, rs, hs, thickness=t, film=film, substrate=substrate)
         return 1.0 / (1.0 / e + compliance)
 
@@ -251,7 +258,7 @@ def film_modulus(h_c, E_r, a=None, *, thickness: float, substrate: ElasticPlasti
                            gtol=1e-12, diff_step=[1e-6])
     log_e = float(result.x[0])
     resid = predict(log_e) - es
-    E = math.exp(log_e)
+    E = min(math.exp(log_e), E_BOUNDS[1])
     # var(ln E_f) = s^2 (J^T J)^-1, J = d E_r / d ln E_f by central differences
     step = 1e-6
     jac = (predict(log_e + step) - predict(log_e - step)) / (2.0 * step)

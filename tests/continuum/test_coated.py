@@ -37,9 +37,11 @@ from filmscale.core.errors import InputError
 R = 1e-6
 SUB = ElasticPlastic(70e9, 0.3, name="sub")
 #: film/substrate modulus ratios of the issue: 5.7, 1/40, 100 (nu 0.3), and one with
-#: different Poisson ratios
+#: different Poisson ratios. The contrast 100 on the 70 GPa substrate is a 7 TPa film, stiffer
+#: than any solid: a solver test, made as a fit's trial material is (unchecked for
+#: plausibility)
 FILMS = {"5.7": ElasticPlastic(5.7 * 70e9, 0.3), "1/40": ElasticPlastic(70e9 / 40, 0.3),
-         "100": ElasticPlastic(100 * 70e9, 0.3), "nu": ElasticPlastic(200e9, 0.2)}
+         "100": ElasticPlastic._trial(100 * 70e9, 0.3), "nu": ElasticPlastic(200e9, 0.2)}
 SUB_NU = ElasticPlastic(70e9, 0.4, name="sub")
 
 

@@ -118,11 +118,10 @@ def test_yield_strains_above_a_tenth_are_a_warning_of_the_model():
 @pytest.mark.parametrize("E, sigma_y, key", [(90, 1.0, "E"), (9e12, 2e9, "E"),
                                              (90e9, 90e9, "sigma_y"), (90e9, 1e13, "sigma_y")])
 def test_api_and_scene_give_the_same_message(E, sigma_y, key):
-    """ElasticPlastic takes any positive values (fits try them); the impact model refuses
-    an implausible one at its entry with the scene's words, its key named either way."""
-    material = ElasticPlastic(E, 0.25, sigma_y, name="target.substrate")
+    """ElasticPlastic refuses an implausible material when it is made, with the scene's
+    words, its key named either way."""
     with pytest.raises(InputError) as api:
-        ImpactModel(material, LAW)
+        ElasticPlastic(E, 0.25, sigma_y, name="target.substrate")
     with pytest.raises(InputError) as scene:
         parse_scene(scene_text(E=E, sy=sigma_y))
     assert one_line_input_error(api) == one_line_input_error(scene)
@@ -130,11 +129,17 @@ def test_api_and_scene_give_the_same_message(E, sigma_y, key):
 
 
 def test_implausible_layer_and_impactor_are_refused_by_the_model():
-    soft = ElasticPlastic(90, 0.3, 1.0, name="film")
+    """Refused when made; a fit's unchecked trial material (`ElasticPlastic._trial`) that
+    reached a model would be refused at its entry with the same words."""
+    with pytest.raises(InputError, match=r"^film\.E = 90 Pa .*did you mean film\.E = 90e9"):
+        ElasticPlastic(90, 0.3, 1.0, name="film")
+    soft = ElasticPlastic._trial(90, 0.3, 1.0, name="film")
     with pytest.raises(InputError, match=r"^film\.E = 90 Pa .*did you mean film\.E = 90e9"):
         ImpactModel(LayerStack((Layer(5e-9, soft),), GLASS), LAW)
     with pytest.raises(InputError, match=r"^slider\.E = 4e\+13 Pa .*stiffer than diamond"):
-        ImpactModel(GLASS, LAW, impactor=ElasticPlastic(4e13, 0.2, name="slider"))
+        ElasticPlastic(4e13, 0.2, name="slider")
+    with pytest.raises(InputError, match=r"^slider\.E = 4e\+13 Pa .*stiffer than diamond"):
+        ImpactModel(GLASS, LAW, impactor=ElasticPlastic._trial(4e13, 0.2, name="slider"))
 
 
 # --- impactor density --------------------------------------------------------------------------

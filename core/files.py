@@ -13,11 +13,13 @@ import json
 import os
 import re
 import socket
+import stat
 import tempfile
 import tomllib
 from contextlib import contextmanager
 from pathlib import Path
 
+from .checks import check_path
 from .errors import InputError
 from .jsonable import dumps
 
@@ -71,33 +73,89 @@ def remove_stale_temporaries(folder) -> list[Path]:
     return removed
 
 
+def _write_error(err: OSError, named) -> OSError:
+    """``err`` (an OSError of writing) as the error of the file the caller named: the same
+    errno and the system's reason, ``filename`` the named file (not the temporary one)."""
+    return OSError(err.errno, err.strerror or str(err), os.fspath(named))
+
+
+def _of_file(err: OSError, tmp: str) -> bool:
+    """Whether ``err`` is an error of writing ``tmp``: it has an errno, and no file name
+    (a write or flush of an open file) or the name ``tmp``."""
+    name = err.filename
+    if isinstance(name, (os.PathLike, bytes)):
+        name = os.fsdecode(name)
+    return err.errno is not None and name in (None, tmp)
+
+
 @contextmanager
 def atomic_path(path):
     """Yield a temporary path beside ``path`` (same suffix) that is renamed to ``path`` when
     the block ends without error, and removed otherwise (an exception, Ctrl-C, or SIGTERM,
     which the command line turns into KeyboardInterrupt). Temporary files that killed
-    processes left in the folder are removed first (`remove_stale_temporaries`)."""
+    processes left in the folder are removed first (`remove_stale_temporaries`).
+
+    A failed write (a full disk, a quota, a read-only or vanished folder) raises one OSError
+    whose ``filename`` is ``path`` as named, never the temporary file, with the system's
+    errno and reason (``OSError(ENOSPC, "No space left on device", path)``; the command line
+    prints it on one line, exit status 2). That covers creating the temporary file, renaming
+    it, and the errors of the block that concern the temporary file (an errno, and no file
+    name or the temporary one); an OSError of another file the block reads is raised as it
+    is. The previous ``path`` is kept intact in every case."""
+    named = path
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(path.parent)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:80]}{TEMP_MARK}{_host()}.{os.getpid()}.",
-                               suffix=path.suffix, dir=path.parent)
     try:
-        os.close(fd)
-        yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())    # mkstemp makes 0600; results are meant to be shared
-        os.replace(tmp, path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temporaries(path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:80]}{TEMP_MARK}{_host()}."
+                                   f"{os.getpid()}.", suffix=path.suffix, dir=path.parent)
+    except OSError as err:
+        raise _write_error(err, named) from err
+    try:
+        try:
+            os.close(fd)
+            yield tmp
+        except OSError as err:
+            if not _of_file(err, tmp):
+                raise           # not the write's: a file the block reads, h5py's own errors
+            raise _write_error(err, named) from err
+        try:
+            os.chmod(tmp, 0o666 & ~_umask())   # mkstemp makes 0600; results are to be shared
+            os.replace(tmp, path)
+        except OSError as err:
+            raise _write_error(err, named) from err
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        if os.path.lexists(tmp):
+            try:
+                os.unlink(tmp)
+            except OSError:     # e.g. the folder went away; a later write removes it
+                pass
 
 
 @contextmanager
 def atomic_h5(path):
-    """Yield an open h5py File that appears at ``path`` only once fully written."""
+    """Yield an open h5py File that appears at ``path`` only once fully written.
+
+    The file is built in memory (HDF5's ``core`` driver without backing store) and its image
+    written to the temporary file of `atomic_path` with plain writes, so the HDF5 library
+    never writes to disk: a full disk or a quota is one OSError naming ``path``
+    (`atomic_path`), and never an HDF5 write failure, which h5py cannot recover from (its
+    deallocators then print "Exception ignored ..." for every object and may crash the
+    interpreter). The image is byte for byte the file h5py writes in place; memory use is
+    about twice the file, and filmscale's HDF5 results are kilobytes to a few megabytes (two
+    200 x 200 maps of 25 fields each make 16 MB)."""
     import h5py
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
-        yield f
+    with atomic_path(path) as tmp:
+        f = h5py.File(tmp, "w", driver="core", backing_store=False)
+        try:
+            yield f
+            f.flush()
+            image = f.id.get_file_image()
+        finally:
+            f.close()
+        with open(tmp, "wb") as out:
+            out.write(image)
+        del image
 
 
 def write_json(path, data, *, indent: int | None = 2) -> None:
@@ -124,6 +182,21 @@ def shown(path) -> str:
     return text if text.isprintable() else ascii(text)
 
 
+#: the most characters of a file's content an error message quotes (`excerpt`)
+MAX_EXCERPT = 60
+
+
+def excerpt(value, limit: int = MAX_EXCERPT) -> str:
+    """Content of a user's data file (a curve table, an instrument export, a value of a TOML
+    input) as an error message may quote it: ``ascii(value)`` (a string in quotes, with no
+    line break, control character or terminal escape left) cut to at most ``limit``
+    characters, ``...`` marking a cut. Files that are not in a format the package reads (a
+    potential file pointed at any path, a file of unknown kind) are never quoted, not even
+    so."""
+    text = ascii(value)
+    return text if len(text) <= limit else f"{text[:limit - 3]}..."
+
+
 def input_limit() -> int:
     """The size limit of text inputs, bytes: `MAX_INPUT_BYTES_ENV` or `MAX_INPUT_BYTES`."""
     raw = os.environ.get(MAX_INPUT_BYTES_ENV)
@@ -139,25 +212,95 @@ def input_limit() -> int:
     return limit
 
 
+def _kind(mode: int) -> str:
+    return ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)" if stat.S_ISFIFO(mode)
+            else "a character device" if stat.S_ISCHR(mode)
+            else "a block device" if stat.S_ISBLK(mode)
+            else "a socket" if stat.S_ISSOCK(mode) else "of another kind")
+
+
+def _not_regular(what: str, path, mode: int) -> InputError:
+    return InputError(f"cannot read {what} {shown(path)}: it is {_kind(mode)}, not a regular "
+                      "file")
+
+
+def _unreadable(what: str, path, err: BaseException) -> InputError:
+    if isinstance(err, FileNotFoundError):
+        return InputError(f"cannot read {what} {shown(path)}: it does not exist")
+    if isinstance(err, ValueError):             # a NUL character in the name
+        return InputError(f"cannot read {what} {shown(path)}: its name holds a NUL character")
+    return InputError(f"cannot read {what} {shown(path)}: "
+                      f"{getattr(err, 'strerror', None) or err}")
+
+
+def check_regular_file(path, what: str) -> os.stat_result:
+    """The `os.stat` of ``path`` when it is a regular file (a symbolic link to one is);
+    else InputError, one line naming ``what`` and the file: it does not exist, cannot be
+    reached, or is a folder, a named pipe, a device or a socket. Call it before opening a
+    user's input: opening a FIFO for reading waits for a writer for ever, a device may never
+    end (/dev/zero) or act when opened, and a folder reads as an error of the library that
+    opens it."""
+    path = check_path(what, path)       # not None, a number (a file descriptor) or bytes
+    try:
+        info = os.stat(path)
+    except (OSError, ValueError) as err:
+        raise _unreadable(what, path, err) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise _not_regular(what, path, info.st_mode)
+    return info
+
+
+def open_regular(path, what: str):
+    """A user's input file opened for binary reading, after `check_regular_file`: opened
+    with O_NONBLOCK and checked again with fstat on the open descriptor, so a name replaced
+    by a pipe or a device after the check is refused, not waited on (on a regular file
+    O_NONBLOCK changes nothing). InputError as `check_regular_file`."""
+    check_regular_file(path, what)
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
+                     | getattr(os, "O_NOCTTY", 0))
+    except (OSError, ValueError) as err:
+        raise _unreadable(what, path, err) from None
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise _not_regular(what, path, mode)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def read_bytes(path, what: str, limit: int | None = None) -> bytes:
+    """The bytes of a user's input file through `open_regular` (a regular file, never a
+    pipe or device), at most ``limit`` bytes (default `input_limit`): InputError naming
+    ``what`` and the file when it is larger (refused from its size before reading, and at
+    limit + 1 bytes should it grow)."""
+    limit = input_limit() if limit is None else limit
+    with open_regular(path, what) as f:
+        if os.fstat(f.fileno()).st_size > limit:
+            raise _too_large(what, path, limit)
+        try:
+            data = f.read(limit + 1)
+        except OSError as err:
+            raise _unreadable(what, path, err) from None
+    if len(data) > limit:
+        raise _too_large(what, path, limit)
+    return data
+
+
+def _too_large(what: str, path, limit: int) -> InputError:
+    return InputError(f"{what} {shown(path)} is larger than {limit} bytes, the input size "
+                      f"limit (set {MAX_INPUT_BYTES_ENV} to read it)")
+
+
 def read_text(path, what: str, limit: int | None = None) -> str:
     """The UTF-8 text of a user's input file, line ends made \\n; InputError naming ``what``
-    (table, scene, ...) and the file when it cannot be read, is larger than ``limit`` bytes
-    (default `input_limit`) or is not text (NUL bytes, not UTF-8). At most limit + 1 bytes
-    are read, so that endless files (/dev/zero, a pipe) end too."""
-    limit = input_limit() if limit is None else limit
-    try:
-        with open(path, "rb") as f:
-            data = f.read(limit + 1)
-    except FileNotFoundError:
-        raise InputError(f"cannot read {what} {shown(path)}: it does not exist") from None
-    except OSError as err:
-        raise InputError(f"cannot read {what} {shown(path)}: {err.strerror or err}") from None
-    except ValueError:          # a NUL character in the name
-        raise InputError(f"cannot read {what} {shown(path)}: its name holds a NUL "
-                         "character") from None
-    if len(data) > limit:
-        raise InputError(f"{what} {shown(path)} is larger than {limit} bytes, the input size "
-                         f"limit (set {MAX_INPUT_BYTES_ENV} to read it)")
+    (table, scene, ...) and the file when it cannot be read, is not a regular file (a
+    folder, a named pipe, a device: `check_regular_file`, checked before it is opened), is
+    larger than ``limit`` bytes (default `input_limit`) or is not text (NUL bytes, not
+    UTF-8). At most limit + 1 bytes are read (`read_bytes`)."""
+    data = read_bytes(path, what, limit)
     if b"\0" in data:
         raise InputError(f"{what} {shown(path)} is not a text file (binary?): it holds NUL "
                          "bytes")

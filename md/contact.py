@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 
 import MDAnalysis as mda
@@ -27,8 +27,9 @@ from MDAnalysis.coordinates.LAMMPS import DumpReader
 from MDAnalysis.lib.util import anyopen
 from scipy.spatial import ConvexHull, QhullError
 
-from filmscale.core.checks import check_positive, check_real
+from filmscale.core.checks import check_path, check_positive, check_real
 from filmscale.core.errors import InputError
+from filmscale.core.files import excerpt
 
 from .units import from_si, to_si
 
@@ -353,7 +354,10 @@ def read_dumps(paths: str | os.PathLike | Sequence[str | os.PathLike], *, dt=Non
     """
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
-    paths = [os.fspath(p) for p in paths]
+    if isinstance(paths, (bytes, dict)) or not isinstance(paths, Iterable):
+        raise InputError(f"paths must be a file path (str or os.PathLike) or a sequence of "
+                         f"them, got {type(paths).__name__}")
+    paths = [str(check_path(f"paths[{k}]", p)) for k, p in enumerate(paths)]
     if not paths:
         raise InputError("paths is empty: give at least one LAMMPS dump file")
     for p in paths:
@@ -396,7 +400,8 @@ def _box_origins(path: str) -> list[np.ndarray]:
             if not line.strip():
                 break
             if not line.startswith("ITEM: TIMESTEP"):
-                raise InputError(f"{path}: expected 'ITEM: TIMESTEP', got {line.strip()!r}")
+                raise InputError(f"{path}: expected 'ITEM: TIMESTEP', got "
+                                 f"{excerpt(line.strip())}")
             f.readline()                                  # the step
             f.readline()                                  # ITEM: NUMBER OF ATOMS
             n_atoms = int(f.readline())

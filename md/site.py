@@ -20,7 +20,7 @@ from pathlib import Path
 
 from filmscale.core.checks import check_keys, check_table
 from filmscale.core.errors import InputError
-from filmscale.core.files import read_toml
+from filmscale.core.files import excerpt, read_toml
 
 #: the launchers filmscale knows by name; any other value is the path of one that takes
 #: ``-np N`` as mpirun does
@@ -53,18 +53,18 @@ def site_file() -> Path | None:
 
 def _strings(where: str, value) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputError(f"{where} must be a list of strings, got {value!r}")
+        raise InputError(f"{where} must be a list of strings, got {excerpt(value)}")
     return tuple(value)
 
 
 def _program(where: str, value) -> str:
     """A program named on PATH or by path, which must exist and be executable."""
     if not isinstance(value, str) or not value:
-        raise InputError(f"{where} must be a program name or path, got {value!r}")
+        raise InputError(f"{where} must be a program name or path, got {excerpt(value)}")
     found = shutil.which(value)
     if found is None:
-        raise InputError(f"{where} = {value!r} is not an executable program (on PATH or by "
-                         "path)")
+        raise InputError(f"{where} = {excerpt(value)} is not an executable program (on PATH "
+                         "or by path)")
     return found
 
 

@@ -8,6 +8,11 @@ n values may span lines) and returns the cutoff the file states, in Angstrom, or
 
 Registry files are pinned by their SHA-256, so their format is checked by the test suite,
 not on every use.
+
+A user's potential file may be any path (a mistake, or someone probing for a secret file), so
+no message quotes a word of the file until the whole file has passed its check: a failure
+names the line, entry or block and what was expected; only the element symbols of a file of
+the right layout are named, when an element the potential declares is not among them.
 """
 
 from __future__ import annotations
@@ -51,11 +56,20 @@ class _Reader:
 def _numbers(words: Sequence[str], what: str) -> list[float]:
     try:
         values = list(map(float, words))
-    except ValueError as exc:
-        raise ValueError(f"{what}: {exc}") from None
+    except ValueError:          # its message quotes the word: the file's content
+        bad = next(k for k, word in enumerate(words) if not _is_float(word))
+        raise ValueError(f"{what}: value {bad + 1} of {len(words)} is not a number") from None
     if not all(map(math.isfinite, values)):
         raise ValueError(f"{what}: a value is not finite")
     return values
+
+
+def _is_float(word: str) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
 
 
 def _grid(words: list[str], line: int) -> tuple[int, int, float]:
@@ -72,6 +86,8 @@ def _grid(words: list[str], line: int) -> tuple[int, int, float]:
 
 
 def _declared_in(elements: Sequence[str], defined: Sequence[str], where: str):
+    """Call once the file has passed its layout check: only then are its element symbols
+    (checked against `ELEMENT`) named."""
     for element in elements:
         if element not in defined:
             raise ValueError(f"element {element!r} is not in it ({where} lists "
@@ -105,19 +121,23 @@ def _setfl(lines: list[str], elements: Sequence[str], finnis_sinclair: bool) -> 
     if len(lines) < 5:
         raise ValueError("the header needs 5 lines")
     count, *defined = lines[3].split("#")[0].split() or ["0"]
-    if not defined or not count.isdigit() or int(count) != len(defined):
-        raise ValueError(f"line 4 announces {count} elements but names {len(defined)}")
-    _declared_in(elements, defined, "its header")
+    if not defined or not count.isdigit() or int(count) != len(defined) \
+            or not all(ELEMENT.fullmatch(word) for word in defined):
+        raise ValueError("line 4 does not hold the number of elements and as many element "
+                         "symbols")
     nrho, nr, cutoff = _grid(lines[4].split("#")[0].split(), 5)
     reader = _Reader(lines, 5)
-    for element in defined:
-        _element_line(reader, f"the line of element {element}")
-        reader.values(nrho, f"F(rho) of {element}")
-        for other in (defined if finnis_sinclair else [element]):
-            reader.values(nr, f"rho(r) of {element}-{other}")
-    for i, first in enumerate(defined):
-        for second in defined[:i + 1]:
-            reader.values(nr, f"r*phi(r) of {first}-{second}")
+    # elements by their place in the header: no word of the file is quoted before it passes
+    places = range(1, len(defined) + 1)
+    for i in places:
+        _element_line(reader, f"the line of element {i}")
+        reader.values(nrho, f"F(rho) of element {i}")
+        for j in (places if finnis_sinclair else [i]):
+            reader.values(nr, f"rho(r) of elements {i}-{j}")
+    for i in places:
+        for j in range(1, i + 1):
+            reader.values(nr, f"r*phi(r) of elements {i}-{j}")
+    _declared_in(elements, defined, "its header")
     return cutoff
 
 
@@ -134,12 +154,11 @@ def _three_body(words_per_entry: int, cutoff_of: Callable[[list[float]], float])
         entries, cutoff = set(), 0.0
         for k in range(0, len(words), words_per_entry):
             triple = tuple(words[k:k + 3])
-            for word in triple:
-                if not ELEMENT.fullmatch(word):
-                    raise ValueError(f"entry {k // words_per_entry + 1} starts with "
-                                     f"{word!r}, not an element symbol")
+            if not all(ELEMENT.fullmatch(word) for word in triple):
+                raise ValueError(f"entry {k // words_per_entry + 1} starts with a word that "
+                                 "is not an element symbol")
             numbers = _numbers(words[k + 3:k + words_per_entry],
-                               f"entry {' '.join(triple)}")
+                               f"entry {k // words_per_entry + 1}")
             entries.add(triple)
             cutoff = max(cutoff, cutoff_of(numbers))
         defined = list(dict.fromkeys(e for triple in entries for e in triple))

@@ -21,6 +21,7 @@ import hashlib
 import importlib.resources
 import importlib.util
 import math
+import os
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -29,6 +30,7 @@ from pathlib import Path
 from types import MappingProxyType
 
 from filmscale.core.errors import InputError
+from filmscale.core.files import check_regular_file, open_regular
 from filmscale.potentials.formats import MAX_BYTES, STYLES, check_file
 from filmscale.potentials.lammps_words import (check_element, check_name, check_pair_coeff,
                                                check_pair_style, check_path_word, shown)
@@ -76,7 +78,11 @@ def lammps_potentials_dir() -> Path | None:
 def _file_sha256(path: Path) -> str:
     """SHA-256 (hex) of a file's bytes, read afresh on every call: no cache keyed by path,
     size or time can miss a change (the largest registry file, 0.9 MB, hashes in 0.8 ms)."""
-    with path.open("rb") as f:
+    try:        # a regular file only: a name swapped for a pipe is refused, not waited on
+        f = open_regular(path, "potential file")
+    except InputError as err:
+        raise PotentialError(str(err)) from None
+    with f:
         return hashlib.file_digest(f, "sha256").hexdigest()
 
 
@@ -465,15 +471,14 @@ def user_potential(path: str | Path, *, name: str, elements: Sequence[str], pair
     # the path's grammar first: a NUL or a newline must not reach the file system or LAMMPS
     check_path_word("potential file", str(path), PotentialError)
     given = Path(path).expanduser()
-    if not given.is_file():
+    try:    # before it is opened: a named pipe would block, a device never end
+        check_regular_file(given, "potential file")
+    except InputError:
         raise PotentialError(f"potential file = {str(path)!r} not found or not a regular "
-                             f"file (looked in {given.parent.resolve()})")
+                             f"file (looked in {given.parent.resolve()})") from None
     file = given.resolve()
     check_path_word("potential file", file, PotentialError)
-    if file.stat().st_size > MAX_BYTES:
-        raise PotentialError(f"potential file {file} is over {MAX_BYTES // 2**20} MiB: not a "
-                             f"potential filmscale reads")
-    data = file.read_bytes()     # one read: the format check and the digest see the same bytes
+    data = _read_potential(file)  # one read: the format check and the digest see the same bytes
     style = pair_style.split(" ")[0]
     try:
         file_cutoff = check_file(data, style, elements)
@@ -487,6 +492,29 @@ def user_potential(path: str | Path, *, name: str, elements: Sequence[str], pair
         sha256=hashlib.sha256(data).hexdigest() if sha256 is None else sha256,
         citation=citation, doi=doi, materials=materials, cutoff=cutoff,
         lattice=lattice or {}, path=file, source="user")
+
+
+def _read_potential(file: Path) -> bytes:
+    """The bytes of a user's potential file, at most `MAX_BYTES` (a larger one is refused
+    unread), opened only as a regular file (`core.files.open_regular`: a name swapped for a
+    pipe after the first check is not waited on)."""
+    try:
+        f = open_regular(file, "potential file")
+    except InputError as err:
+        raise PotentialError(str(err)) from None
+    with f:
+        try:
+            if os.fstat(f.fileno()).st_size <= MAX_BYTES:
+                data = f.read(MAX_BYTES + 1)
+            else:
+                data = None
+        except OSError as err:
+            raise PotentialError(f"cannot read potential file {file}: {err.strerror or err}"
+                                 ) from None
+    if data is None or len(data) > MAX_BYTES:
+        raise PotentialError(f"potential file {file} is over {MAX_BYTES // 2**20} MiB: not a "
+                             f"potential filmscale reads")
+    return data
 
 
 _USER_KEYS = frozenset({"file", "name", "elements", "pair_style", "pair_coeff", "citation",

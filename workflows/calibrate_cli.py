@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import EngineError, InputError
+from filmscale.core.files import check_regular_file
 from filmscale.core.jsonable import dumps
 
 from .quantity_args import add_quantity_argument
@@ -152,6 +153,10 @@ def record_film(path) -> RecordFilm | None:
     from filmscale.continuum.indentation.io import HDF5_SUFFIXES
     if Path(path).suffix.lower() not in HDF5_SUFFIXES:
         return None
+    try:
+        check_regular_file(path, "run record")  # h5py would block on a named pipe
+    except InputError:
+        return None                  # read_curves says what is wrong with the file
     try:
         with h5py.File(path, "r") as f:
             fmt = f.attrs.get("format", "")

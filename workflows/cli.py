@@ -22,7 +22,7 @@ import numpy as np
 
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE, check_real
 from filmscale.core.errors import FilmscaleError, InputError
-from filmscale.core.files import atomic_path
+from filmscale.core.files import atomic_path, shown
 from filmscale.core.jsonable import dumps
 from filmscale.core.quantities import eng
 
@@ -181,7 +181,7 @@ def cmd_impact_map(args) -> int:
     from filmscale.continuum.contact.impact_map import axis, cylinder_map, impact_map
     from filmscale.continuum.contact.oblique import oblique_map
 
-    from .scene import MapSpec, load_scene
+    from .scene import MapSpec, check_map_points, load_scene
     scene = load_scene(args.scene)
     cylinder = scene.impactor.shape == "cylinder"
     if cylinder and args.angle is not None:
@@ -197,6 +197,7 @@ def cmd_impact_map(args) -> int:
         if spec.velocity is None:
             raise InputError("an impact map needs a velocity range: give --velocity "
                              "MIN:MAX:N or [map] velocity")
+        check_map_points(spec.velocity[2], args.angle[2], spec.velocity_name, "--angle")
         velocity = axis(*spec.velocity, spec.spacing, spec.velocity_name, VELOCITY_RANGE,
                         "m/s")
         for value in args.angle[:2]:
@@ -436,7 +437,7 @@ def main(argv=None) -> int:
         print(f"filmscale: {kind}{err}", file=sys.stderr)
         return err.exit_code
     except OSError as err:          # reading or writing a file: permissions, full disk, ...
-        where = f"{err.filename}: " if err.filename else ""
+        where = f"{shown(err.filename)}: " if err.filename else ""
         print(f"filmscale: error: {where}{err.strerror or err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

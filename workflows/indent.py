@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from functools import lru_cache
@@ -24,8 +25,10 @@ from filmscale.continuum.indentation.io import (CURVE_SUFFIXES, HDF5_SUFFIXES, r
 from filmscale.continuum.indentation.oliver_pharr import elastic_indent, shallow_depth_hardness
 from filmscale.continuum.indentation.property_profile import property_profile
 from filmscale.continuum.indentation.tips import PolynomialArea, parse_tip
+from filmscale.core.checks import check_path
 from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError
+from filmscale.core.files import check_regular_file
 
 UNREADABLE = "unreadable"
 FAILED = 1
@@ -120,6 +123,8 @@ def expand_inputs(paths) -> list[Path]:
             out += found
         elif p.is_file():
             out.append(p)
+        elif p.exists():        # a named pipe, a device, a socket
+            check_regular_file(p, "curve file")    # raises: not a regular file
         else:
             raise InputError(f"curve file {p} does not exist")
     return out
@@ -293,9 +298,15 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
     """Records of every curve in ``paths``, in input order.
 
     ``workers`` processes (default: the CPUs this process may use, at most 8); one process
-    for fewer than 64 files, where starting a pool costs more than it saves.
+    for fewer than 64 files, where starting a pool costs more than it saves. ``paths`` is a
+    sequence of str or os.PathLike (one such path alone stands for itself).
     """
-    paths = [Path(p) for p in paths]
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    if isinstance(paths, (bytes, dict)) or not isinstance(paths, Iterable):
+        raise InputError(f"paths must be a sequence of file paths (str or os.PathLike), got "
+                         f"{type(paths).__name__}")
+    paths = [check_path(f"paths[{k}]", p) for k, p in enumerate(paths)]
     if workers is None:
         workers = min(usable_cores(), 8)
     workers = max(1, min(int(workers), len(paths)))

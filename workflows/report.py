@@ -19,7 +19,7 @@ from filmscale.continuum.calibration.result import (FITS_E, FITS_SIGMA_Y, CrossC
                                                     pop_in_range)
 from filmscale.continuum.contact.results import ImpactMaxima
 from filmscale.core.errors import InputError
-from filmscale.core.files import atomic_path
+from filmscale.core.files import atomic_path, check_regular_file
 from filmscale.continuum.contact.impact_map import ImpactMap
 from filmscale.core.quantities import eng
 from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS, read_map_group
@@ -38,6 +38,8 @@ def check_result(result) -> Path:
     from .outputs import describe, hdf5_format
     result = Path(result)
     if not result.is_file():
+        if result.exists() and not result.is_dir():     # a named pipe, a device
+            check_regular_file(result, "result")        # raises: not a regular file
         raise InputError(f"result {result} does not exist" if not result.exists() else
                          f"result {result} is a folder, not a file")
     if hdf5_format(result) not in RESULT_FORMATS:

@@ -14,8 +14,9 @@ import numpy as np
 from filmscale.continuum.contact.impact_map import (CylinderMap, ImpactMap, map_units,
                                                    row_dimension)
 from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.core.checks import check_path
 from filmscale.core.errors import InputError
-from filmscale.core.files import atomic_h5
+from filmscale.core.files import atomic_h5, check_regular_file
 from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
 
@@ -196,6 +197,8 @@ def write_impact_maps(path, maps: dict[str, ImpactMap | CylinderMap], models: di
 def read_impact_maps(path) -> tuple[dict[str, dict[str, np.ndarray]], dict]:
     """(fields by label, root attributes) of a file written by `write_impact_maps`, of this
     layout or of the first (``filmscale.impact_map/1``: shared root axes)."""
+    path = check_path("path", path)
+    check_regular_file(path, "impact-map file")     # h5py would block on a named pipe
     try:
         with h5py.File(path, "r") as f:
             fmt = f.attrs.get("format")
@@ -278,6 +281,8 @@ def write_indentation_results(path, records: list[dict], provenance: dict[str, s
 
 def read_indentation_results(path) -> tuple[dict[str, np.ndarray], dict]:
     """Datasets and attributes of a file written by `write_indentation_results`."""
+    path = check_path("path", path)
+    check_regular_file(path, "indentation result file")     # h5py would block on a pipe
     try:
         with h5py.File(path, "r") as f:
             if f.attrs.get("format") != INDENT_RESULTS_FORMAT:

@@ -20,15 +20,13 @@ compliance and drift are the analysis's to remove (`LoadDisplacementCurve.frame_
 from __future__ import annotations
 
 import math
-import os
 import re
-import stat
 from pathlib import Path
 
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import input_limit, shown
+from filmscale.core.files import excerpt, read_bytes, shown
 
 from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
@@ -165,31 +163,8 @@ def _labels(segments: list[dict] | None, t: np.ndarray | None) -> np.ndarray | N
 
 def _read_text(path: Path) -> str:
     """The file's text, line ends made \\n, after the checks that keep a pipe, a device or an
-    oversized file from being read."""
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise InputError(f"cannot read {shown(path)}: it does not exist") from None
-    except (OSError, ValueError) as err:
-        raise InputError(f"cannot read {shown(path)}: {getattr(err, 'strerror', None) or err}"
-                         ) from None
-    if not stat.S_ISREG(info.st_mode):
-        raise InputError(f"{shown(path)} is not a regular file (a folder, pipe or device): "
-                         "a .hld file is expected")
-    limit = input_limit()
-    if info.st_size > limit:
-        raise InputError(f"{shown(path)} is larger than {limit} bytes, the input size limit")
-    try:
-        # O_NONBLOCK: should the name have become a pipe since the stat, open does not wait
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-        with os.fdopen(fd, "rb") as f:
-            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
-                raise InputError(f"{shown(path)} is not a regular file: a .hld file is expected")
-            data = f.read(limit + 1)
-    except OSError as err:
-        raise InputError(f"cannot read {shown(path)}: {err.strerror or err}") from None
-    if len(data) > limit:
-        raise InputError(f"{shown(path)} is larger than {limit} bytes, the input size limit")
+    oversized file from being read (`core.files.read_bytes`)."""
+    data = read_bytes(path, "Hysitron .hld file")
     if not data.strip():
         raise InputError(f"{shown(path)} is empty: not a Hysitron .hld file")
     if b"\0" in data:
@@ -200,6 +175,12 @@ def _read_text(path: Path) -> str:
         text = data.decode("latin-1")     # what TriboScan writes: µ is byte 0xB5
     # not str.splitlines: it also splits at Latin-1 0x85 and other controls inside a line
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _plain(name: str) -> str:
+    """A block's name for a message: as it is when it is a few plain words (``Test``,
+    ``Sample Approach``), else a bounded, escaped `excerpt`."""
+    return name if re.fullmatch(r"[A-Za-z0-9 _-]{1,40}", name) else excerpt(name)
 
 
 def _blocks(lines: list[str], path: Path) -> dict[str, tuple[int, int, int]]:
@@ -214,15 +195,15 @@ def _blocks(lines: list[str], path: Path) -> dict[str, tuple[int, int, int]]:
     blocks = {}
     for j, (i, name, count) in enumerate(starts):
         if not count.isdigit():
-            raise InputError(f"{shown(path)}: '{name} Data Points' gives {count[:20]!r}, not a "
-                             "number of rows")
+            raise InputError(f"{shown(path)}: '{_plain(name)} Data Points' gives "
+                             f"{excerpt(count, 20)}, not a number of rows")
         stop = starts[j + 1][0] if j + 1 < len(starts) else len(lines)
         held = sum(1 for line in lines[i + 2:stop] if line.strip())
         declared = int(count)
         if held != declared:
             cut = "is cut short" if held < declared else "holds more rows than it declares"
-            raise InputError(f"{shown(path)}: the {name} Data block {cut}: it holds {held} rows "
-                             f"of the {declared} it declares")
+            raise InputError(f"{shown(path)}: the {_plain(name)} Data block {cut}: it holds "
+                             f"{held} rows of the {declared} it declares")
         blocks[name] = (declared, i + 1, stop)
     return blocks
 
@@ -262,7 +243,7 @@ def _numbers(lines: list[str], columns: int, first: int, path: Path) -> np.ndarr
             what = (f"holds {len(fields)} values for {columns} columns"
                     if len(fields) != columns else "is not numbers")
             raise InputError(f"{shown(path)} line {first + k + 1}: the Test Data row {what}: "
-                             f"{ascii(line.strip()[:60])}")
+                             f"{excerpt(line.strip())}")
     raise InputError(f"{shown(path)}: the Test Data block is not a table of numbers")
 
 
@@ -313,7 +294,7 @@ def read_hld(path) -> dict[str, LoadDisplacementCurve]:
     if i_h is None or i_P is None:
         missing = " and ".join(n for n, i in (("Disp_nm", i_h), ("Force_µN", i_P)) if i is None)
         raise InputError(f"{shown(path)}: the Test Data block has no {missing} column "
-                         f"(columns: {', '.join(names)[:120]})")
+                         f"(columns: {excerpt(', '.join(names))})")
     data = _numbers(lines[names_line + 1:stop], len(names), names_line + 1, path)
     h = data[:, i_h] * _column_factor(names[i_h])
     P = data[:, i_P] * _column_factor(names[i_P])

@@ -21,14 +21,15 @@ import io
 import json
 import math
 import re
-import stat
 from pathlib import Path
 
 import h5py
 import numpy as np
 
+from filmscale.core.checks import check_path
 from filmscale.core.errors import InputError
-from filmscale.core.files import input_limit, parse_json, read_text, read_toml
+from filmscale.core.files import (check_regular_file, excerpt, input_limit, parse_json,
+                                  read_text, read_toml, shown)
 
 from .curves import CHANNELS, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS, PolynomialArea, berkovich, parse_tip
@@ -54,7 +55,7 @@ def _unit_factor(name: str, unit: str | None) -> float:
     if unit is None:
         return 1.0
     if unit.strip() not in UNITS:
-        raise InputError(f"unknown unit [{unit}] for column {name!r}; known: "
+        raise InputError(f"unknown unit {excerpt(unit)} for column {excerpt(name)}; known: "
                          f"{', '.join(UNITS)}")
     return UNITS[unit.strip()]
 
@@ -77,7 +78,7 @@ def _parse_words(text: str) -> list[tuple[str, float]]:
     while pos < len(text):
         match = _COLUMN.match(text, pos)
         if not match or match.end() == pos:
-            raise InputError(f"cannot read the column header near {text[pos:pos + 20]!r}")
+            raise InputError(f"cannot read the column header near {excerpt(text[pos:pos + 20])}")
         name, unit = match.group(1), match.group(2) or match.group(3)
         out.append((name, _unit_factor(name, unit)))
         pos = match.end()
@@ -91,8 +92,8 @@ def _parse_comma_header(text: str) -> list[tuple[str, float]]:
     out = []
     for field in fields:
         if not field.strip():
-            raise InputError(f"cannot read the column header near {text[:20]!r}: an empty "
-                             "column name")
+            raise InputError(f"cannot read the column header near {excerpt(text[:20])}: an "
+                             "empty column name")
         match = _FIELD.fullmatch(field)
         if match and match.group(1):
             name, unit = match.group(1), match.group(2) or match.group(3)
@@ -120,14 +121,33 @@ def _read_comma_rows(body: str, width: int) -> np.ndarray | None:
     return np.array(rows, dtype=float).reshape(-1, width)
 
 
+_LOADTXT = re.compile(r"could not convert string (.*) to \w+ at row (\d+), column (\d+)",
+                      re.DOTALL)
+
+
+def _loadtxt_reason(err: ValueError) -> str:
+    """numpy's reason a table body is not numbers, its quote of the field bounded and
+    escaped (`excerpt`): numpy quotes the whole field, which may be a whole line."""
+    match = _LOADTXT.match(str(err))
+    if match:
+        field = match.group(1)[1:-1] if match.group(1)[:1] in "'\"" else match.group(1)
+        return (f"row {int(match.group(2)) + 1} of the numbers, column {match.group(3)}: "
+                f"{excerpt(field)} is not a number")        # numpy counts rows from 0
+    reason = ascii(str(err).splitlines()[0] if str(err) else type(err).__name__)[1:-1]
+    return reason if len(reason) <= 100 else f"{reason[:97]}..."
+
+
 def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     """Columns of a text table in SI, by header name. Raises InputError naming the file."""
-    path = Path(path)
+    path = check_path("path", path)
     text = read_text(path, "table")
     header, _, body = text.lstrip().partition("\n")
     if not header or not re.search(r"[A-Za-z_]", header):
-        raise InputError(f"table {path} has no header line naming its columns")
-    columns = parse_header(header)
+        raise InputError(f"table {shown(path)} has no header line naming its columns")
+    try:
+        columns = parse_header(header)
+    except InputError as err:
+        raise InputError(f"table {shown(path)}: {err}") from None
     if not re.search(r"^\s*[-+.0-9]", body, flags=re.MULTILINE):
         raise InputError(f"table {path} has a header but no rows of numbers")
     data, error = None, None
@@ -135,7 +155,7 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
         # one replace over the whole text: thousands of files are read in a batch
         data = np.loadtxt(io.StringIO(body.replace(",", " ")), comments="#", ndmin=2)
     except ValueError as err:
-        error = f"table {path}: {err}"
+        error = f"table {shown(path)}: {_loadtxt_reason(err)}"
     if error is None and data.shape[1] != len(columns):
         error = (f"table {path} has {data.shape[1]} columns of numbers but its header names "
                  f"{len(columns)}")
@@ -148,8 +168,8 @@ def read_table(path, required: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
     out = {name: data[:, k] * factor for k, (name, factor) in enumerate(columns)}
     missing = [c for c in required if c not in out]
     if missing:
-        raise InputError(f"table {path} lacks column(s) {', '.join(missing)} "
-                         f"(it has {', '.join(out)})")
+        raise InputError(f"table {shown(path)} lacks column(s) {', '.join(missing)} "
+                         f"(it has {excerpt(', '.join(out))})")
     return out
 
 
@@ -172,8 +192,8 @@ def _curve_column(columns: dict, key: str, path) -> np.ndarray | None:
             return columns[lower[alias]]
     if key == "t":
         return None
-    raise InputError(f"curve file {path} has no {key} column (header names accepted: "
-                     f"{', '.join(CURVE_COLUMNS[key])}; it has {', '.join(columns)})")
+    raise InputError(f"curve file {shown(path)} has no {key} column (header names accepted: "
+                     f"{', '.join(CURVE_COLUMNS[key])}; it has {excerpt(', '.join(columns))})")
 
 
 def read_curve_text(path, indenter: str = "") -> LoadDisplacementCurve:
@@ -209,9 +229,34 @@ def _tip_text(tip) -> str:
     return tip.base.spec if isinstance(tip, PolynomialArea) else tip.spec
 
 
+#: bytes of one curve row: its h and P as float64s
+CURVE_ROW_BYTES = 16
+
+
+def curve_rows_limit() -> int:
+    """The most rows (points) a curve read from a file may hold: the input limit
+    (`filmscale.core.files.input_limit`, 16 MiB unless FILMSCALE_MAX_INPUT_BYTES sets
+    another) over `CURVE_ROW_BYTES`, so 1,048,576 rows by default: ten times the longest
+    instrument records (10^5 points, 5 MB of text), a text table of typical 30-50-byte rows
+    within the input limit holds under 600,000, and a curve of 10^6 points takes under 1 s to
+    analyse. Raising the input limit raises this one."""
+    return input_limit() // CURVE_ROW_BYTES
+
+
+def check_curve_rows(n_rows: int, what: str) -> int:
+    """``n_rows`` when it is at most `curve_rows_limit`, else InputError naming ``what``."""
+    limit = curve_rows_limit()
+    if n_rows > limit:
+        raise InputError(f"{what} has {n_rows} rows, more than the limit of {limit} (the "
+                         f"input size limit over {CURVE_ROW_BYTES} bytes a row; set "
+                         "FILMSCALE_MAX_INPUT_BYTES to read a longer curve)")
+    return n_rows
+
+
 def _dataset(group, name: str, required: bool = True):
     """A dataset of a curve group as an array; InputError naming the group when it is
-    missing or larger than the input limit (a hostile file may declare terabytes)."""
+    missing, larger than the input limit (a hostile file may declare terabytes) or longer
+    than `curve_rows_limit` rows, checked before it is read."""
     if name not in group:
         if required:
             raise InputError(f"curve group {group.name} has no dataset {name!r}")
@@ -220,6 +265,7 @@ def _dataset(group, name: str, required: bool = True):
     if not isinstance(data, h5py.Dataset) or data.nbytes > input_limit():
         raise InputError(f"curve group {group.name}: {name!r} is not a dataset of at most "
                          f"{input_limit()} bytes")
+    check_curve_rows(data.size, f"curve group {group.name}: dataset {name!r}")
     return data[()]
 
 
@@ -245,6 +291,10 @@ def read_curve_group(group) -> LoadDisplacementCurve:
                              "function") from None
     channels = {}
     if isinstance(group.get("channels"), h5py.Group):
+        for name in group["channels"]:      # named before any is read: a file may hold many
+            if name not in CHANNELS:
+                raise InputError(f"curve group {group.name}: unknown channel {excerpt(name)} "
+                                 f"(known: {', '.join(CHANNELS)})")
         channels = {name: _dataset(group["channels"], name) for name in group["channels"]}
     return LoadDisplacementCurve(_dataset(group, "h"), _dataset(group, "P"),
                                  _dataset(group, "t", False), _dataset(group, "segment", False),
@@ -258,9 +308,17 @@ def read_curves(path, options=None) -> dict[str, LoadDisplacementCurve]:
     ``options`` (`vendors.ReadOptions`) names an instrument format or a column mapping. In
     the default ``auto`` format a text file is read as the package's own table first and, when
     that fails, as an instrument export (`vendors.read_instrument`); when both fail, the
-    InputError gives both reasons.
+    InputError gives both reasons. ``path`` must be a str or an os.PathLike; a curve may hold
+    at most `curve_rows_limit` rows.
     """
-    path = Path(path)
+    path = check_path("path", path)
+    curves = _read_curves(path, options)
+    for name, curve in curves.items():
+        check_curve_rows(len(curve.h), f"curve {name!r} of {shown(path)}")
+    return curves
+
+
+def _read_curves(path: Path, options) -> dict[str, LoadDisplacementCurve]:
     suffix = path.suffix.lower()
     if options is None:
         from .vendors import ReadOptions
@@ -282,12 +340,7 @@ def read_curves(path, options=None) -> dict[str, LoadDisplacementCurve]:
             except InputError as err:
                 raise InputError(f"{native}; read as an instrument export: {err}") from None
 
-    try:
-        regular = stat.S_ISREG(path.stat().st_mode)
-    except OSError as err:
-        raise InputError(f"cannot read HDF5 file {path}: {err.strerror}") from None
-    if not regular:             # h5py would block on a pipe and misread a device
-        raise InputError(f"cannot read HDF5 file {path}: not a regular file")
+    check_regular_file(path, "HDF5 file")  # h5py would block on a pipe, misread a device
     out = {}
     try:
         with h5py.File(path, "r") as f:
@@ -314,7 +367,7 @@ def read_area_function(path, base=None):
     unit, optional) the contact depths they were calibrated on. ``base`` is the nominal tip
     (Berkovich when None).
     """
-    path = Path(path)
+    path = check_path("path", path)
     data = read_toml(path, "area file")
     coef = data.get("C")
     if not isinstance(coef, list) or not 1 <= len(coef) <= 9 or not all(
@@ -323,7 +376,8 @@ def read_area_function(path, base=None):
                          f"(C0, C1, ... of A = C0 h^2 + C1 h + C2 h^(1/2) + ...)")
     unit = data.get("length_unit", "m")
     if unit not in ("m", "um", "µm", "nm"):
-        raise InputError(f"area file {path}: length_unit = {unit!r} is not one of m, um, nm")
+        raise InputError(f"area file {shown(path)}: length_unit = {excerpt(unit)} is not one "
+                         "of m, um, nm")
     u = UNITS[unit]
     si = tuple(float(c) * u**(2.0 - p) for c, p in zip(coef, POLYNOMIAL_EXPONENTS))
     h_range = data.get("h_c_range")
@@ -340,13 +394,13 @@ def read_area_function(path, base=None):
 def read_frame_compliance(path) -> float | None:
     """The ``frame_compliance`` (m/N) an area file holds (`indent calibrate` writes it), or
     None when it holds none."""
-    path = Path(path)
+    path = check_path("path", path)
     data = read_toml(path, "area file")
     if "frame_compliance" not in data:
         return None
     value = data["frame_compliance"]
     if isinstance(value, bool) or not isinstance(value, (int, float)) \
             or not 0.0 <= value <= 1.0:
-        raise InputError(f"area file {path}: frame_compliance = {value!r} must be a number of "
-                         "m/N in [0, 1]")
+        raise InputError(f"area file {shown(path)}: frame_compliance = {excerpt(value)} must "
+                         "be a number of m/N in [0, 1]")
     return float(value)

@@ -10,10 +10,12 @@ gives. What each layout looks like and how a column mapping is written: docs/ind
   sheet, with the CSM channels and the summary sheets' analysis inputs.
 - **Hysitron ``.hld``** (the header, approach, drift and test blocks TriboScan writes):
   `hld.read_hld`; a ``.hld`` holding one header line over its numbers is delimited text.
-- **Delimited text**: the encoding (UTF-8, else Latin-1, as TriboScan writes ``µ``), the
-  separator (tab, ``;``, ``,`` or blanks) and the decimal mark (a comma where the separator is
-  not one) are found from the first rows of numbers; the line above them is the header, or
-  the two lines above when the lower one holds only units; lines before are a preamble.
+- **Delimited text**: the encoding (UTF-8, else Latin-1, as TriboScan writes ``µ``) and the
+  separator (tab, ``;``, ``,`` or blanks) are found from the first rows of numbers; the line
+  above them is the header, or the two lines above when the lower one holds only units; lines
+  before are a preamble. The number format, a decimal mark and thousands separators
+  (``1,234.5``, ``1.234,5``, ``1 234,5``; `MARKS`), is the one that reads every number of the
+  table; quoted fields may hold the separator (``"1,234.5"``).
 
 pandas and python-calamine are imported inside the functions that use them: the command line
 starts without them.
@@ -21,7 +23,6 @@ starts without them.
 
 from __future__ import annotations
 
-import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import input_limit, read_toml, shown
+from filmscale.core.files import (check_regular_file, input_limit, open_regular, read_bytes,
+                                  read_toml, shown)
 
 from .curves import LoadDisplacementCurve
 
@@ -37,6 +39,8 @@ FORMATS = ("auto", "filmscale", "g200", "hysitron", "anton-paar", "delimited")
 EXCEL_SUFFIXES = (".xls", ".xlsx", ".xlsm")
 #: bytes of a ``.hld`` read to tell its layout (the real header is about 6 kB)
 HLD_HEAD_BYTES = 1 << 16
+#: what the messages of the opening checks (regular file, size) call an instrument file
+WHAT = "curve file"
 #: what each named format fixes before the rest is found from the file
 PRESETS = {
     "hysitron": {"encoding": "latin-1", "separator": "\t"},
@@ -126,7 +130,7 @@ def _is_unit_row(cells) -> bool:
     seen = [c for c in cells if c is not None and str(c).strip() and str(c) != "nan"]
     if not seen or any(isinstance(c, (int, float)) and not isinstance(c, bool) for c in seen):
         return False
-    if any(_number(str(c), ".") or _number(str(c), ",") for c in seen):
+    if any(_admits(str(c).strip()) for c in seen):
         return False
     return any(_unit(c) in _KNOWN_UNITS for c in seen)
 
@@ -159,12 +163,7 @@ class ReadOptions:
                                                and 0 <= self.skip_rows <= 10000):
             raise InputError(f"skip_rows = {self.skip_rows!r} must be a whole number 0-10000")
         if self.encoding is not None:
-            import codecs
-            try:
-                codecs.lookup(self.encoding)
-            except LookupError:
-                raise InputError(f"encoding = {self.encoding!r} is not a known text "
-                                 "encoding (utf-8, latin-1, cp1252, ...)") from None
+            text_encoding(self.encoding, "encoding")
         for role, _, unit in self.columns:
             if role not in ROLES:
                 raise InputError(f"column mapping: role {role!r} is not one of h, P, t")
@@ -176,6 +175,22 @@ class ReadOptions:
         """The option's value, else the named format's preset, else None."""
         value = getattr(self, key)
         return PRESETS.get(self.format, {}).get(key) if value is None else value
+
+
+def text_encoding(name, what: str = "encoding") -> str:
+    """``name`` when it names a text encoding (``codecs.lookup`` knows it and marks it one:
+    rot13, zlib_codec, base64_codec and hex_codec are codecs but not text encodings), else
+    InputError naming ``what`` and the value."""
+    import codecs
+    try:
+        info = codecs.lookup(name) if isinstance(name, str) and name.strip() else None
+    except LookupError:
+        info = None
+    if info is None or not getattr(info, "_is_text_encoding", True):
+        kind = "is not a known" if info is None else "is a codec but not a"
+        raise InputError(f"{what} = {name!r} {kind} text encoding (text encodings: utf-8, "
+                         "latin-1, cp1252, utf-16, ...)")
+    return name
 
 
 def parse_columns(text: str) -> tuple:
@@ -214,7 +229,10 @@ def read_options_file(path, base: ReadOptions | None = None) -> ReadOptions:
     base = base or ReadOptions()
     kwargs = {k: data.get(k, getattr(base, k)) for k in
               ("format", "encoding", "separator", "decimal", "header_rows", "skip_rows")}
-    return ReadOptions(columns=mapped or base.columns, **kwargs)
+    try:
+        return ReadOptions(columns=mapped or base.columns, **kwargs)
+    except InputError as err:
+        raise InputError(f"reader options file {shown(path)}: {err}") from None
 
 
 # ---- columns -----------------------------------------------------------------------------
@@ -281,52 +299,110 @@ def _curve(frame, picked, source, meta, segment=None) -> LoadDisplacementCurve:
 # ---- delimited text ----------------------------------------------------------------------
 
 def _check_size(path: Path) -> None:
-    try:
-        size = path.stat().st_size
-    except OSError as err:
-        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
+    """A regular file (`check_regular_file`: never a pipe or a device) within the input
+    size limit, else InputError."""
+    size = check_regular_file(path, WHAT).st_size
     if size > input_limit():
         raise InputError(f"{shown(path)} is larger than {input_limit()} bytes, the input size "
                          "limit")
 
 
 def _decode(path: Path, encoding: str | None) -> str:
-    _check_size(path)
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None
-    if b"\0" in data:
-        raise InputError(f"{shown(path)} is not text (it holds NUL bytes): export it as text "
-                         "or .xlsx")
+    data = read_bytes(path, WHAT)
     for enc in ([encoding] if encoding else ["utf-8-sig", "latin-1"]):
         try:
             text = data.decode(enc)
             break
-        except UnicodeDecodeError as err:
+        except UnicodeError as err:     # UnicodeDecodeError, and plain from punycode
             if encoding:
-                raise InputError(f"{shown(path)} is not {encoding} text: {err.reason} at "
-                                 f"byte {err.start}") from None
+                where = (f"{err.reason} at byte {err.start}"
+                         if isinstance(err, UnicodeDecodeError) else str(err))
+                raise InputError(f"{shown(path)} is not {encoding} text: {where}") from None
+    # NUL characters, not bytes: UTF-16 text holds NUL bytes
+    if "\0" in text:
+        raise InputError(f"{shown(path)} is not text (it holds NUL bytes): export it as text "
+                         "or .xlsx")
     return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def _fields(line: str, sep: str) -> list[str]:
-    return line.split() if sep == " " else [f.strip().strip('"') for f in line.split(sep)]
+    """The fields of a line; with a separator other than blanks, quoted fields may hold it
+    (``"1,234.5"`` in a comma-separated table)."""
+    if sep == " ":
+        return line.split()
+    if '"' in line:
+        import csv
+        row = next(csv.reader([line], delimiter=sep, skipinitialspace=True), [])
+        return [f.strip().strip('"') for f in row]
+    return [f.strip() for f in line.split(sep)]
 
 
-def _number(field: str, decimal: str) -> bool:
-    try:
-        float(field.replace(",", ".") if decimal == "," else field)
-        return True
-    except ValueError:
-        return False
+#: the number formats a table may use, (decimal mark, thousands separator), in the order one
+#: is chosen when several read every number of the table (a blank stands for the no-break
+#: spaces too): ``1,5`` is a decimal comma, ``1,234.5`` a thousands comma, ``1,234`` either
+MARKS = ((".", None), (",", None), (".", ","), (",", "."), (".", " "), (",", " "),
+         (".", "'"), (",", "'"))
+_BLANKS = str.maketrans({"\u00a0": " ", "\u202f": " "})
 
 
-def _numeric_row(line: str, sep: str, decimal: str) -> int:
-    """Number of fields when every non-empty field is a number (at least 2), else 0."""
+def _number_pattern(decimal: str, thousands: str | None) -> str:
+    """A number in one format: a sign, digits (in groups of three after the first one to
+    three where ``thousands`` separates them, then without an exponent), at most one
+    ``decimal`` mark, an exponent; or nan, inf."""
+    d = re.escape(decimal)
+    plain = rf"(?:[0-9]+(?:{d}[0-9]*)?|{d}[0-9]+)(?:[eE][-+]?[0-9]+)?"
+    if thousands:
+        t = "[ \u00a0\u202f]" if thousands == " " else re.escape(thousands)
+        plain = rf"[1-9][0-9]{{0,2}}(?:{t}[0-9]{{3}})+(?:{d}[0-9]*)?|{plain}"
+    return rf"[-+]?(?:{plain}|nan|inf|infinity)"
+
+
+_IN_FORMAT = tuple(re.compile(_number_pattern(*marks), re.IGNORECASE) for marks in MARKS)
+_ANY_NUMBER = re.compile("|".join(f"(?:{_number_pattern(*m)})" for m in MARKS), re.IGNORECASE)
+
+
+def _bit(decimal: str, thousands: str | None) -> int:
+    return 1 << MARKS.index((decimal, thousands))
+
+
+def _admits(field: str) -> int:
+    """The number formats (bits of `MARKS`) that read ``field`` as a number; 0 for text."""
+    return sum(1 << k for k, pattern in enumerate(_IN_FORMAT) if pattern.fullmatch(field))
+
+
+def _values(fields: list[str], marks: tuple) -> list[float]:
+    """``fields``, numbers in the format ``marks`` or empty (NaN), as floats."""
+    decimal, thousands = marks
+    fields = [f or "nan" for f in fields]
+    if thousands:
+        fields = [f.translate(_BLANKS).replace(thousands, "") for f in fields]
+    if decimal == ",":
+        fields = [f.replace(",", ".") for f in fields]
+    return list(map(float, fields))
+
+
+def _describe(marks: tuple) -> str:
+    decimal, thousands = marks
+    text = "a decimal point" if decimal == "." else "a decimal comma"
+    names = {",": "commas", ".": "points", " ": "blanks", "'": "apostrophes"}
+    return text + (f" and {names[thousands]} between thousands" if thousands else "")
+
+
+def _numeric_row(line: str, sep: str) -> int:
+    """Number of fields when every non-empty field is a number in some format (at least
+    2), else 0."""
     fields = _fields(line, sep)
     filled = [f for f in fields if f]
-    return len(fields) if len(filled) >= 2 and all(_number(f, decimal) for f in filled) else 0
+    return len(fields) if len(filled) >= 2 and all(map(_ANY_NUMBER.fullmatch, filled)) else 0
+
+
+def _split_thousands(line: str, sep: str, width: int) -> str | None:
+    """The first number written with thousands commas in ``line`` when it is a row of a
+    comma-separated table of ``width`` columns cut into more fields by them."""
+    if sep != "," or not _numeric_row(line, sep) > width:
+        return None
+    match = re.search(r"(?<![0-9.])[0-9]{1,3}(?:,[0-9]{3})+(?:\.[0-9]+)?(?![0-9])", line)
+    return match.group(0) if match else None
 
 
 _COMMA_NUMBER = re.compile(r"^[-+]?\d*,?\d+(?:[eE][-+]?\d+)?$")
@@ -345,7 +421,7 @@ def _separator(line: str) -> str:
 
 
 def _layout(lines, options: ReadOptions):
-    """(first data line, separator, decimal mark) of delimited text."""
+    """(first data line, separator) of delimited text."""
     start = options.skip_rows + (options.header_rows or 1) if options.skip_rows is not None \
         else 0
     for k in range(start, len(lines)):
@@ -356,12 +432,9 @@ def _layout(lines, options: ReadOptions):
         # the separator and decimal mark from the last of these rows: a first row of zeros
         # ("0 0") tells neither
         sep = options.setting("separator") or _separator(following[-1] if following else line)
-        decimal = options.setting("decimal") or (
-            "," if sep != "," and any(re.search(r"\d,\d", ln) for ln in [line, *following])
-            else ".")
-        width = _numeric_row(line, sep, decimal)
-        if width and all(_numeric_row(ln, sep, decimal) == width for ln in following):
-            return k, sep, decimal
+        width = _numeric_row(line, sep)
+        if width and all(_numeric_row(ln, sep) == width for ln in following):
+            return k, sep
     raise InputError("no rows of numbers (three lines with the same number of numeric fields)")
 
 
@@ -374,7 +447,7 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
     text = _decode(path, options.setting("encoding"))
     lines = text.split("\n")
     try:
-        first, sep, decimal = _layout(lines, options)
+        first, sep = _layout(lines, options)
     except InputError as err:
         raise InputError(f"{shown(path)}: {err}") from None
     above = [k for k in range(first) if lines[k].strip()]
@@ -385,7 +458,7 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
                          "mapping with column numbers and units)")
     two = options.header_rows == 2 or (options.header_rows is None and len(above) >= 2
                                        and _is_unit_row(_fields(lines[above[-1]], sep)))
-    width = _numeric_row(lines[first].strip(), sep, decimal)
+    width = _numeric_row(lines[first].strip(), sep)
     if above:
         names = _fields(lines[above[-2] if two else above[-1]].strip().lstrip("#"), sep)
         units = [_unit(u) or None for u in _fields(lines[above[-1]], sep)] if two else []
@@ -394,25 +467,80 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
     while names and not names[-1]:        # a trailing separator closes some headers
         names.pop()
     if len(names) != width:
+        split = _split_thousands(lines[first].strip(), sep, len(names))
+        if split:
+            raise InputError(_thousands_commas(path, first + 1, split))
         raise InputError(f"{shown(path)}: its header names {len(names)} columns but its rows "
                          f"hold {width} numbers")
     units = (units + [None] * width)[:width]
     picked = _pick_columns(names, units, options, path)
-    body = []
-    for line in lines[first:]:       # the table ends at its first line that is not numbers
-        if not line.strip():
-            continue
-        if _numeric_row(line.strip(), sep, decimal) != width:
-            break
-        body.append(line.strip())
-    try:
-        frame = pd.read_csv(io.StringIO("\n".join(body)), header=None,
-                            sep=r"\s+" if sep == " " else sep, decimal=decimal,
-                            engine="python" if sep == " " else "c")
-    except (ValueError, pd.errors.ParserError) as err:
-        raise InputError(f"{shown(path)}: {err}") from None
-    meta = {"source": str(path), "format": "delimited", "separator": sep, "decimal": decimal}
+    marks, body = _table(path, lines, first, sep, width, names, options)
+    frame = pd.DataFrame(np.array(_values(body, marks), dtype=float).reshape(-1, width))
+    meta = {"source": str(path), "format": "delimited", "separator": sep,
+            "decimal": marks[0]}
+    if marks[1]:
+        meta["thousands"] = marks[1]
     return {path.stem: _curve(frame, picked, path, meta)}
+
+
+def _table(path, lines, first, sep, width, names, options):
+    """(number format, fields row after row) of the table from line ``first``: it ends at
+    its first line that is not ``width`` numbers. The format (`MARKS`) is the first that
+    reads every number (those of the ``decimal`` option first). InputError naming the line
+    and column of a number that no format shared with the rows above reads, and for
+    thousands commas in a comma-separated table, where they cannot be told from the
+    separator."""
+    body, numbers, plain = [], [], True
+    for n, line in enumerate(lines[first:], start=first + 1):
+        line = line.strip()
+        if not line:
+            continue
+        fields = _fields(line, sep)
+        filled = [f for f in fields if f]
+        if len(fields) != width or len(filled) < 2:
+            break
+        if not all(map(_IN_FORMAT[0].fullmatch, filled)):     # the common format first
+            if not all(map(_ANY_NUMBER.fullmatch, filled)):
+                break
+            plain = False
+        body += fields
+        numbers.append(n)
+    else:
+        line = None
+    split = _split_thousands(line, sep, width) if line else None
+    if split:
+        raise InputError(_thousands_commas(path, n, split))
+    filled = [f for f in body if f]
+    decimal = options.setting("decimal")
+    order = sorted(range(len(MARKS)), key=lambda k: MARKS[k][0] != decimal)
+    for k in order:
+        if (plain and k == 0) or all(map(_IN_FORMAT[k].fullmatch, filled)):
+            return MARKS[k], body
+    # no one format reads them all: the first number that none shared with the rows above
+    bits = (1 << len(MARKS)) - 1
+    for row, n in enumerate(numbers):
+        for k, field in enumerate(body[row * width:(row + 1) * width]):
+            if field and not bits & _admits(field):
+                was = next(MARKS[j] for j in order if bits >> j & 1)
+                raise InputError(
+                    f"{shown(path)}: line {n}, column {names[k]!r} holds {field!r}, which "
+                    f"does not fit the number format of the rows above ({_describe(was)}): "
+                    f"{_advice(field)}")
+            bits &= _admits(field) if field else bits
+    raise InputError(f"{shown(path)}: its numbers are not in one format")   # not reached
+
+
+def _advice(field: str) -> str:
+    if not _admits(field) & (_bit(".", None) | _bit(",", None)):
+        return ("it holds thousands separators; export the table without them, or with one "
+                "number format throughout")
+    return "export the table with one decimal mark throughout"
+
+
+def _thousands_commas(path, line: int, number: str) -> str:
+    return (f"{shown(path)}: line {line} holds a number with thousands separators ({number}) "
+            "in a comma-separated table, where they cannot be told from the separator: export "
+            f"without thousands separators, or with the numbers quoted (\"{number}\")")
 
 
 def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadDisplacementCurve]:
@@ -421,6 +549,7 @@ def read_instrument(path, options: ReadOptions | None = None) -> dict[str, LoadD
     read."""
     path = Path(path)
     options = options or ReadOptions()
+    check_regular_file(path, WHAT)      # before any reader opens it: a FIFO would block
     suffix = path.suffix.lower()
     if suffix in EXCEL_SUFFIXES:
         from .workbooks import read_workbook
@@ -441,10 +570,8 @@ def _hld_layout(path: Path) -> bool:
     header line is read as delimited text). Only the header is read: its first block opens
     within the first few kilobytes."""
     _check_size(path)
-    if not path.is_file():
-        raise InputError(f"cannot read {shown(path)}: not a regular file")
     try:
-        with open(path, "rb") as f:
+        with open_regular(path, WHAT) as f:
             head = f.read(HLD_HEAD_BYTES)
     except OSError as err:
         raise InputError(f"cannot read {shown(path)}: {err.strerror}") from None

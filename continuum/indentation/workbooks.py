@@ -20,10 +20,16 @@ range of the averages, ...). What is read from each (docs/indentation.md, "Instr
   point; rows after ``END`` are not data;
 - the instrument's marker for an invalid value (DBL_MAX, 1.797e308) becomes NaN;
 - the summary sheets' values for each test go into the curve's ``meta["vendor"]`` in SI.
+
+Before calamine parses a workbook, its bounds are checked (docs/security.md, "Physical
+plausibility and bounded readers"): a regular file within the input size limit, read once into memory, and for an
+.xlsx the uncompressed size of its members and the rows and cells its references span
+(`ARCHIVE_FACTOR`, `MAX_SHEET_ROWS`, `MAX_SHEET_CELLS`).
 """
 
 from __future__ import annotations
 
+import io
 import math
 import re
 from pathlib import Path
@@ -31,11 +37,11 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import shown
+from filmscale.core.files import MAX_INPUT_BYTES_ENV, excerpt, input_limit, read_bytes, shown
 
 from .curves import CHANNELS, HOLD, LOAD, SEGMENTS_FROM_FILE, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
-from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _check_size, _is_unit_row,
+from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _is_unit_row,
                       _pick_columns, _unit, si_unit, split_name)
 
 WORKBOOK_SUFFIXES = (".xls", ".xlsx", ".xlsm")
@@ -91,28 +97,230 @@ def _label(cell) -> str:
     return split_name(cell)[0].strip().lower() if isinstance(cell, str) else ""
 
 
+# ---- bounds: what a workbook may hold before it is parsed ---------------------------------
+
+#: the most bytes the members of an ``.xlsx`` (a zip archive) may hold uncompressed, in
+#: input size limits (`core.files.input_limit`): 16 x 16 MiB = 256 MiB by default. The
+#: largest real exports (tests/data/instruments: FS_Calibration.xls, FQ.xls, 2.4-2.6 MB,
+#: 120 000-140 000 cells) hold about 6 MB of sheet XML written as .xlsx (about 10:1
+#: compressed), so the bound is 40 times the largest; a zip bomb (1.8 MB holding 550 MB of
+#: sheet XML) is refused from the archive's directory, before anything is inflated
+ARCHIVE_FACTOR = 16
+#: the most members of an ``.xlsx``: a workbook holds a few per sheet (real ones: 20-30)
+MAX_MEMBERS = 10_000
+#: the most rows of one sheet: real sheets hold at most a few thousand (FQ.xls: 2984);
+#: Excel itself stops at 1 048 576
+MAX_SHEET_ROWS = 1_000_000
+#: the most cells of one sheet's rectangle, rows x columns: calamine allocates every cell
+#: of the rectangle from the first to the last cell given (32 bytes each: 320 MB at the
+#: bound), so two cells far apart (A1 and XFD1048576: 1.7e10 cells) would abort the
+#: process; real sheets hold at most 10^5 (FS_Calibration.xls: 136 000 in 20 sheets)
+MAX_SHEET_CELLS = 10_000_000
+#: bytes of a member inflated at a time while its cell references are scanned
+_CHUNK = 1 << 22
+#: a cell or row reference: r="AB12" (cell) or r="12" (row), in either quote, blanks
+#: allowed around = as XML allows (text that looks like one counts too: an over-estimate)
+_REF_LETTERS = re.compile(rb"""\sr\s*=\s*["']([A-Za-z]+)""")
+_REF_DIGITS = re.compile(rb"""\sr\s*=\s*["'][A-Za-z]*([0-9]+)""")
+#: start tags of cells and rows, with or without a namespace prefix (``x:c``), and those
+#: that begin with their reference (as Excel, LibreOffice, openpyxl and XlsxWriter write)
+_CELL_TAGS = (b"<c ", b"<c>", b"<c/", b":c ", b":c/")
+_REFERENCED_CELLS = (b'<c r="', b"<c r='", b':c r="', b":c r='")
+_ROW_TAGS = (b"<row ", b"<row>", b"<row/", b":row ", b":row/")
+_REFERENCED_ROWS = (b'<row r="', b"<row r='", b':row r="', b":row r='")
+#: prefixed start tags without attributes (``<x:c>``), which ``:c>`` would confuse with
+#: end tags (``</x:c>``)
+_PREFIXED_BARE = re.compile(rb"<[A-Za-z_][\w.-]*:(c|row)>")
+#: the first bytes of an OLE2 compound document (.xls)
+_OLE2 = b"\xd0\xcf\x11\xe0"
+
+
+def _column_number(letters: bytes) -> int:
+    """The column of ``AB``-style letters (1 for A); beyond 6 letters, 26^6 (past any
+    limit, without looping over a reference of any length)."""
+    if len(letters) > 6:
+        return 26**6
+    number = 0
+    for ch in letters.upper():
+        number = number * 26 + ch - 64
+    return number
+
+
+def _row_number(digits: bytes) -> int:
+    """A row number; beyond 12 digits, 10^12 (int() refuses over 4300 digits)."""
+    return int(digits) if len(digits) <= 12 else 10**12
+
+
+def _mib(n: int) -> str:
+    return f"{n / 2**20:.1f} MiB" if n >= 2**20 else f"{n / 2**10:.1f} KiB"
+
+
+class _Extent:
+    """Upper bounds of the rows and columns calamine will give a sheet part, from its XML
+    as it streams past: the largest row number and column letters referenced, plus, for
+    rows and cells without a reference (calamine places them after the previous one),
+    their count (rows) and the most in one row (cells)."""
+
+    def __init__(self):
+        self.max_row = self.max_column = self.rows = self.cells = 0
+        self.in_row = self.most_in_row = 0
+        self.unreferenced = False
+        self.tail = b""
+
+    def feed(self, chunk: bytes, last: bool = False) -> None:
+        data = self.tail + chunk
+        cut = len(data) if last else data.rfind(b">") + 1
+        if not last and (cut == 0 or len(data) - cut > _CHUNK):
+            cut = max(len(data) - 64, 0)     # no tag ends here: keep a short overlap
+        data, self.tail = data[:cut], data[cut:]
+        letters = set(_REF_LETTERS.findall(data))
+        if letters:
+            self.max_column = max(self.max_column, max(map(_column_number, letters)))
+        digits = set(_REF_DIGITS.findall(data))
+        if digits:
+            self.max_row = max(self.max_row, max(map(_row_number, digits)))
+        bare = _PREFIXED_BARE.findall(data)
+        bare_cells = bare.count(b"c")
+        self.rows += max(0, sum(map(data.count, _ROW_TAGS)) + len(bare) - bare_cells
+                         - sum(map(data.count, _REFERENCED_ROWS)))
+        cells = sum(map(data.count, _CELL_TAGS)) + bare_cells
+        if not self.unreferenced and cells > sum(map(data.count, _REFERENCED_CELLS)):
+            # from here on, count the cells of each row; the row under way may hold any
+            # of the cells before
+            self.unreferenced, self.in_row = True, self.cells
+        self.cells += cells
+        if self.unreferenced:
+            for k, piece in enumerate(data.split(b"row>")):
+                if k:
+                    self.most_in_row = max(self.most_in_row, self.in_row)
+                    self.in_row = 0
+                self.in_row += sum(map(piece.count, _CELL_TAGS)) + \
+                    len(_PREFIXED_BARE.findall(piece))
+            self.most_in_row = max(self.most_in_row, self.in_row)
+
+    @property
+    def height(self) -> int:
+        return self.max_row + self.rows
+
+    @property
+    def width(self) -> int:
+        return self.max_column + (self.most_in_row if self.unreferenced else 0)
+
+
+def _check_archive(data: bytes, path: Path) -> None:
+    """InputError unless the zip archive ``data`` (an .xlsx) is an OOXML workbook within the
+    bounds: at most `MAX_MEMBERS` members holding at most `ARCHIVE_FACTOR` input size limits
+    uncompressed, as its directory states and as inflating confirms (a member that inflates
+    to more than stated fails its CRC), and no sheet part whose cell references span more
+    than `MAX_SHEET_ROWS` rows or `MAX_SHEET_CELLS` cells."""
+    import zipfile
+    bound = ARCHIVE_FACTOR * input_limit()
+    where = f"workbook {shown(path)}"
+    try:
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        members = archive.infolist()
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError) as err:
+        raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xls or .xlsx): "
+                         f"it is not a valid zip archive ({_reason(err)})") from None
+    if len(members) > MAX_MEMBERS:
+        raise InputError(f"{where} is a zip archive of {len(members)} members, more than "
+                         f"the {MAX_MEMBERS} a workbook may hold")
+    total = sum(m.file_size for m in members)
+    if total > bound:
+        packed = sum(m.compress_size for m in members)
+        raise InputError(f"{where} holds {_mib(total)} uncompressed ({_mib(packed)} "
+                         f"compressed, a ratio of {total / max(packed, 1):.0f}), more than "
+                         f"{_mib(bound)}, {ARCHIVE_FACTOR} times the input size limit (a zip "
+                         f"bomb?; set {MAX_INPUT_BYTES_ENV} to raise it)")
+    names = {m.filename.lower() for m in members}
+    if "xl/workbook.xml" not in names or "content.xml" in names \
+            or any(n.endswith(".bin") and n.startswith("xl/") and "workbook" in n for n in names):
+        raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xls or .xlsx): "
+                         "its zip archive holds no xl/workbook.xml (an .xlsb or .ods "
+                         "workbook, or another archive: save it as .xlsx)")
+    for member in members:
+        if member.is_dir():
+            continue
+        extent = _Extent()
+        try:
+            with archive.open(member) as f:
+                while chunk := f.read(_CHUNK):
+                    extent.feed(chunk)
+                    _check_extent(extent, path, member.filename)
+        except InputError:
+            raise
+        except (zipfile.BadZipFile, OSError, ValueError, EOFError, NotImplementedError,
+                RuntimeError) as err:      # a bad CRC, an unknown compression, encryption
+            raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xls or "
+                             f".xlsx): its zip archive is damaged ({_reason(err)})") from None
+        extent.feed(b"", last=True)
+        _check_extent(extent, path, member.filename)
+
+
+def _check_extent(extent: _Extent, path: Path, part: str) -> None:
+    if extent.height > MAX_SHEET_ROWS or extent.height * extent.width > MAX_SHEET_CELLS:
+        raise _too_big(path, f"part {excerpt(part)}", extent.height, extent.width)
+
+
+def _too_big(path: Path, what: str, rows: int, columns: int) -> InputError:
+    return InputError(f"workbook {shown(path)}: {what} spans up to {rows} rows x {columns} "
+                      f"columns; the limits are {MAX_SHEET_ROWS} rows and {MAX_SHEET_CELLS} "
+                      "cells a sheet")
+
+
+def _reason(err: BaseException) -> str:
+    """A library's one-line reason, escaped and at most 100 characters (it may hold a piece
+    of the file)."""
+    text = str(err).splitlines()[0] if str(err).strip() else type(err).__name__
+    text = ascii(text)[1:-1]
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
 # ---- sheets -----------------------------------------------------------------------------
 
 def _open(path: Path):
-    _check_size(path)
-    if not path.is_file():
-        raise InputError(f"cannot read {shown(path)}: not a regular file")
+    """The workbook, read from the bytes that passed the checks: a regular file within the
+    input size limit (`core.files.read_bytes`), an OLE2 document (.xls) or a zip archive
+    within the bounds above (.xlsx). calamine reads the same bytes from memory, never the
+    name again: a file replaced after the checks (by a pipe, by a bomb) is not read."""
+    data = read_bytes(path, "workbook")
+    is_zip = data[:2] == b"PK"
+    if not is_zip and data[:4] != _OLE2:
+        import zipfile
+        is_zip = zipfile.is_zipfile(io.BytesIO(data))
+    if is_zip:
+        _check_archive(data, path)
+    elif data[:4] != _OLE2:
+        raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xls or .xlsx): "
+                         "it is neither an OLE2 document (.xls) nor a zip archive (.xlsx)")
     from python_calamine import CalamineWorkbook
     try:
-        return CalamineWorkbook.from_path(str(path))
+        return CalamineWorkbook.from_filelike(io.BytesIO(data))
     except Exception as err:  # calamine raises its own errors on files that are not workbooks
-        reason = str(err).splitlines()[0][:200] if str(err) else type(err).__name__
+        reason = _reason(err)
+        if reason == "Cannot detect file format":
+            reason = ("its zip archive holds no workbook calamine reads" if is_zip else
+                      "its OLE2 container is damaged or not an office document")
         raise InputError(f"cannot read {shown(path)} as an Excel workbook (.xls or .xlsx): "
                          f"{reason}") from None
 
 
 def _rows(book, name: str, path: Path) -> list[list]:
     try:
-        return book.get_sheet_by_name(name).to_python(skip_empty_area=False)
+        sheet = book.get_sheet_by_name(name)
+        end = sheet.end
     except Exception as err:
-        raise InputError(f"cannot read sheet {name!r} of {shown(path)}: "
-                         f"{str(err).splitlines()[0][:200] if str(err) else type(err).__name__}"
-                         ) from None
+        raise InputError(f"cannot read sheet {excerpt(name)} of {shown(path)}: "
+                         f"{_reason(err)}") from None
+    # the rows as to_python gives them (from A1: skip_empty_area=False), counted first
+    rows, columns = (end[0] + 1, end[1] + 1) if end else (0, 0)
+    if rows > MAX_SHEET_ROWS or rows * columns > MAX_SHEET_CELLS:
+        raise _too_big(path, f"sheet {excerpt(name)}", rows, columns)
+    try:
+        return sheet.to_python(skip_empty_area=False)
+    except Exception as err:
+        raise InputError(f"cannot read sheet {excerpt(name)} of {shown(path)}: "
+                         f"{_reason(err)}") from None
 
 
 def _test_number(text) -> int | None:
@@ -140,14 +348,14 @@ def read_workbook(path, options: ReadOptions | None = None) -> dict[str, LoadDis
         meta = {"source": str(path), "sheet": name, "format": "g200-workbook",
                 "vendor": vendor.get(number, {}) if number is not None else {}}
         try:
-            out[name] = sheet_curve(rows, options, f"{path} sheet {name!r}", meta)
+            out[name] = sheet_curve(rows, options, f"{path} sheet {excerpt(name)}", meta)
         except InputError as err:
             reasons.append(str(err))
     if not out:
         why = "; ".join(reasons[:3]) + (f"; and {len(reasons) - 3} more" if len(reasons) > 3
                                         else "")
         raise InputError(f"workbook {shown(path)} holds no test sheet with depth and load "
-                         f"columns ({why or 'its sheets ' + ', '.join(map(repr, names))})")
+                         f"columns ({why or 'its sheets ' + excerpt(', '.join(names))})")
     return out
 
 

@@ -1,5 +1,6 @@
-"""Hostile input to the readers and the Python API: endless files (/dev/zero, a pipe whose
-writer never stops), files over the size limit, binary files, deeply nested TOML and JSON,
+"""Hostile input to the readers and the Python API: files that are no regular file
+(/dev/zero, a pipe whose writer never stops: refused before they are opened), files over the
+size limit, binary files, deeply nested TOML and JSON,
 folders, missing files and odd names go through every reader of scenes, sweeps, specs, the
 site file, curve tables, area files and JSON; the array API gets negative, NaN and infinite
 values and shapes that do not match. Each case asserts the error class (InputError, exit 2),
@@ -101,7 +102,8 @@ HOSTILE_FILES = {
                   "is not a text file (binary?): it is not UTF-8 text"),
     "random bytes": (lambda p: p.write_bytes(bytes(range(256)) * 4),
                      "is not a text file (binary?)"),
-    "/dev/zero": (lambda p: p.symlink_to("/dev/zero"), f"is larger than {LIMIT} bytes"),
+    "/dev/zero": (lambda p: p.symlink_to("/dev/zero"), "a character device, not a regular file"),
+    "a named pipe": (lambda p: os.mkfifo(p), "a named pipe (FIFO), not a regular file"),
     "a folder": (lambda p: p.mkdir(), "cannot read"),
     "missing": (lambda p: None, "does not exist"),
 }
@@ -127,8 +129,9 @@ def test_every_reader_still_reads_a_valid_file(tmp_path, small_limit, reader):
 
 
 @pytest.mark.parametrize("reader", ["scene", "table", "md spec"])
-def test_an_endless_pipe_ends_at_the_limit(tmp_path, small_limit, reader):
-    """A FIFO whose writer never stops: the reader takes limit + 1 bytes and refuses."""
+def test_an_endless_pipe_is_refused_unopened(tmp_path, small_limit, reader):
+    """A FIFO whose writer never stops: the reader refuses it before opening it (the writer
+    stays blocked in its open until the test releases it)."""
     path = _input(tmp_path, reader)
     os.mkfifo(path)
 
@@ -145,21 +148,31 @@ def test_an_endless_pipe_ends_at_the_limit(tmp_path, small_limit, reader):
     try:
         with pytest.raises(InputError) as err:
             _read(reader, path)
-        assert f"is larger than {LIMIT} bytes" in one_line(err)
+        assert "not a regular file" in one_line(err)
     finally:
-        if writer.is_alive():       # the reader never opened it: release the writer
+        # the reader never opened it: release the writer from its open (again, should the
+        # writer not have reached its open yet), and it stops at its first write
+        for _ in range(100):
+            if not writer.is_alive():
+                break
             os.close(os.open(path, os.O_RDONLY | os.O_NONBLOCK))
-        writer.join(timeout=10)
+            writer.join(timeout=0.1)
     assert not writer.is_alive()
 
 
-def test_dev_zero_ends_at_the_default_limit_and_the_limit_is_configurable(monkeypatch):
+def test_dev_zero_is_refused_and_the_limit_is_configurable(monkeypatch, tmp_path):
     monkeypatch.delenv(MAX_INPUT_BYTES_ENV, raising=False)
+    with pytest.raises(InputError, match="a character device, not a regular file"):
+        read_text("/dev/zero", "scene")
+    big = tmp_path / "big.toml"
+    with big.open("wb") as f:           # sparse: refused from its size, unread
+        f.truncate(MAX_INPUT_BYTES + 1)
     with pytest.raises(InputError, match=f"larger than {MAX_INPUT_BYTES} bytes"):
-        read_text("/dev/zero", "scene")
+        read_text(big, "scene")
     monkeypatch.setenv(MAX_INPUT_BYTES_ENV, "10")
+    (tmp_path / "s.toml").write_text("title = 'eleven'\n")
     with pytest.raises(InputError, match="larger than 10 bytes"):
-        read_text("/dev/zero", "scene")
+        read_text(tmp_path / "s.toml", "scene")
 
 
 @pytest.mark.parametrize("value", ["abc", "0", "-5", "1.5", ""])
@@ -453,7 +466,8 @@ def _cli(*args, cwd, env=None):
 
 @pytest.mark.parametrize("args, make, env, expect", [
     (["impact", "zero.toml"], lambda d: (d / "zero.toml").symlink_to("/dev/zero"),
-     {MAX_INPUT_BYTES_ENV: str(LIMIT)}, "scene zero.toml is larger than 4096 bytes"),
+     {MAX_INPUT_BYTES_ENV: str(LIMIT)},
+     "cannot read scene zero.toml: it is a character device, not a regular file"),
     (["impact", "deep.toml"], lambda d: (d / "deep.toml").write_text(_nested(100_000)), {},
      f"scene deep.toml nests tables and arrays more than {MAX_NESTING} deep"),
     (["impact", "scene.toml"], lambda d: (d / "scene.toml").write_text(SCENE),

@@ -32,19 +32,9 @@ from filmscale.continuum.materials import MAX_LAYERS
 from filmscale.core.errors import InputError
 from filmscale.core.files import MAX_INPUT_BYTES_ENV
 from filmscale.workflows.scene import MAP_POINTS_MAX, load_pipeline, load_scene, parse_scene
+from tests.workflows.test_scene import MINIMAL
 
-SCENE = """
-[impactor]
-radius = 10e-6
-mass = 1.6e-6
-velocity = 0.2
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-"""
+SCENE = MINIMAL
 LAYER = """
 [[target.layers]]
 thickness = 1e-9

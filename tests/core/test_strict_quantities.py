@@ -10,24 +10,9 @@ import pytest
 from filmscale.core.errors import InputError
 from filmscale.core.quantities import to_si
 from filmscale.workflows.cli import main
+from tests.workflows.test_cli import HERTZ_SCENE
 
-SCENE = """
-[impactor]
-radius = {radius}
-mass = 1.6e-6
-velocity = 0.05
-E = 400e9
-nu = 0.23
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-
-[model]
-contact_law = "hertz"
-"""
+SCENE = HERTZ_SCENE.replace("radius = 10e-6", "radius = {radius}")
 
 #: (text, SI unit, the message after "x = '<text>': ")
 MISREAD = [

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.workflows.indent import AnalysisOptions, analyze_files
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.tips import berkovich
 
 TIP = berkovich()

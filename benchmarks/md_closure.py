@@ -25,8 +25,9 @@ from filmscale.continuum.calibration import calibrate
 from filmscale.continuum.calibration.sphere import HERTZ_FRACTION, calibrate_sphere
 from filmscale.continuum.indentation.spherical import loading_points
 from filmscale.md.units import to_si
-from filmscale.workflows.scene import CalibrationSource
-from filmscale.workflows.units import done_record, run_unit, unit_curve
+from filmscale.workflows.pipeline_scene import CalibrationSource
+from filmscale.workflows.store import done_record
+from filmscale.workflows.units import run_unit, unit_curve
 
 #: the quick preset's Cu film made a thick homogeneous Cu block: same potential, sphere,
 #: protocol and lateral size; 5 nm of Cu under the surface instead of 2.2 nm on Ni

@@ -27,8 +27,9 @@ import numpy as np
 from filmscale.continuum.calibration import calibrate
 from filmscale.continuum.indentation.spherical import elastic_limit
 from filmscale.md.spec import PRESETS, spec_from_mapping
-from filmscale.workflows.scene import CalibrationSource
-from filmscale.workflows.units import done_record, run_unit, unit_curve
+from filmscale.workflows.pipeline_scene import CalibrationSource
+from filmscale.workflows.store import done_record
+from filmscale.workflows.units import run_unit, unit_curve
 
 #: (label, protocol/slab change) of each run; the first is the quick preset itself
 VARIANTS = (

@@ -11,7 +11,8 @@ from filmscale.core.lazy import lazy_exports
 #: public name -> the module that defines it
 _WHERE = {
     "Scene": "scene", "load_scene": "scene", "parse_scene": "scene",
-    "PipelineScene": "scene", "load_pipeline": "scene", "parse_pipeline": "scene",
+    "PipelineScene": "pipeline_scene", "load_pipeline": "pipeline_scene",
+    "parse_pipeline": "pipeline_scene",
     "Plan": "plan", "plan_scene": "plan", "plan_impact": "plan",
     "run_scene": "pipeline", "SceneResult": "pipeline",
     "write_scene_result": "result", "write_impact_maps": "result",

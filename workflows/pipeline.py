@@ -21,10 +21,10 @@ from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.core.errors import InputError
 from filmscale.workflows.plan import Plan, check_request, plan_scene
 from filmscale.workflows.result import write_scene_result
-from filmscale.workflows.scene import PipelineScene, filled_data, layer_sources
-from filmscale.workflows.units import (calibration_part, calibration_unit, done_record, finish_unit,
-                                       impact_evaluation, joint_unit, say, source_units, unit_dir,
-                                       unit_lock)
+from filmscale.workflows.pipeline_scene import PipelineScene, filled_data, layer_sources
+from filmscale.workflows.store import done_record, finish_unit, say, unit_dir, unit_lock
+from filmscale.workflows.units import (calibration_part, calibration_unit, impact_evaluation,
+                                       joint_unit, source_units)
 
 
 @dataclass(frozen=True)

@@ -31,14 +31,14 @@ SWEEP_INDEX = json_kind({"sweep", "scenes"}, "a sweep index")
 
 def cmd_plan(args) -> int:
     from .plan import plan_scene
-    from .scene import load_pipeline
+    from .pipeline_scene import load_pipeline
     print(plan_scene(load_pipeline(args.scene)).text())
     return 0
 
 
 def cmd_run(args) -> int:
     from .pipeline import run_scene
-    from .scene import load_pipeline
+    from .pipeline_scene import load_pipeline
     scene = Path(args.scene)
     pipeline = load_pipeline(scene)             # every input checked before any run
     out = output_path("--out", args.out or Path("results") / f"{scene.stem}.h5")
@@ -192,13 +192,13 @@ def cmd_cancel(args) -> int:
 
 
 def cmd_status(args) -> int:
-    """Every unit of a store (`units.unit_states`: creates no file, so a read-only store
+    """Every unit of a store (`store.unit_states`: creates no file, so a read-only store
     works); the text prints every name, state and reason escaped (`core.files.shown`: a
     folder name with a terminal escape sequence prints as its escapes), the JSON as JSON
     escapes them."""
     from filmscale.core.files import shown
     from .slurm import queue_states, read_jobs
-    from .units import unit_states
+    from .store import unit_states
     store = Path(args.store)
     if not store.is_dir():
         raise InputError(f"store {shown(store)} is not a folder")

@@ -31,7 +31,8 @@ from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.materials import ElasticPlastic, LayerStack
 from filmscale.core.errors import InputError
 from filmscale.workflows.md_settings import md_settings_advice
-from filmscale.workflows.scene import CalibrationSource, PipelineScene, Scene, layer_sources
+from filmscale.workflows.scene import Scene
+from filmscale.workflows.pipeline_scene import CalibrationSource, PipelineScene, layer_sources
 
 FRICTION_LIMIT = 0.3
 

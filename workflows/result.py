@@ -23,7 +23,8 @@ from filmscale.core.provenance import provenance
 if TYPE_CHECKING:       # annotations only: an impact map is written without the planner or MD
     from filmscale.continuum.calibration.result import Calibration, CrossCheck
     from filmscale.workflows.plan import Plan
-    from filmscale.workflows.scene import PipelineScene, Scene
+    from filmscale.workflows.scene import Scene
+    from filmscale.workflows.pipeline_scene import PipelineScene
 
 #: /2: ``cross_check`` of a calibrated layer is a list (one check per source); /3: impact/map
 #: and impact/map_std in the one map layout (`write_map_group`)

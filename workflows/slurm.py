@@ -26,7 +26,8 @@ from filmscale.core.errors import EngineError, InputError
 from filmscale.core.files import read_json, shown, write_json
 from filmscale.workflows.plan import md_cost_s
 from filmscale.workflows.sweep import SweepScene
-from filmscale.workflows.units import check_unit, run_unit_path
+from filmscale.workflows.store import check_unit
+from filmscale.workflows.units import run_unit_path
 
 #: a task's wall-time limit: the planner's cost estimate times this, plus `TIME_FLOOR_S`
 TIME_MARGIN, TIME_FLOOR_S = 3.0, 600.0

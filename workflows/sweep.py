@@ -27,7 +27,7 @@ import tomli_w
 from filmscale.core.checks import check_keys, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import parse_toml, read_text, read_toml
-from filmscale.workflows.scene import PipelineScene, parse_pipeline
+from filmscale.workflows.pipeline_scene import PipelineScene, parse_pipeline
 
 #: more scenes than this from one sweep file is taken for a mistake
 MAX_SCENES = 10_000

@@ -16,7 +16,7 @@ from filmscale.core.lazy import lazy_exports
 #: public name -> the submodule that defines it (imported on first use, so that the
 #: command line starts without loading scipy's heavier parts)
 _WHERE = {
-    "LoadDisplacementCurve": "curves", "check_curve": "curves", "synthetic_curve": "curves",
+    "LoadDisplacementCurve": "curves", "check_curve": "curves", "synthetic_curve": "synthetic",
     "read_curves": "io", "ReadOptions": "vendors", "analyse_cycles": "cycles",
     "calibrate_tip": "tip_calibration", "TipCalibration": "tip_calibration",
     "OliverPharrResult": "oliver_pharr", "calibrate_frame_compliance": "oliver_pharr",

@@ -100,7 +100,7 @@ def synthetic_multicycle(E_r, H, tip, *, h_c, m=1.5, unload_to=0.3, frame_compli
     answer.
 
     Cycle k peaks at P_k = H A(h_c,k) and unloads along P = B_k (h - h_f,k)^m (as
-    `curves.synthetic_curve`) down to ``unload_to`` P_k (the last cycle to zero); reloading
+    `synthetic.synthetic_curve`) down to ``unload_to`` P_k (the last cycle to zero); reloading
     retraces that elastic unloading to P_k, then loads on to the next peak with sqrt(P)
     linear in h (Kick's law between peaks). ``frame_compliance`` (m/N) adds C_f P to every
     depth, as an instrument frame does.

@@ -6,8 +6,8 @@ import h5py
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import (HOLD, LOAD, UNLOAD, LoadDisplacementCurve,
-                                                    check_curve, drift_rate, synthetic_curve)
+from filmscale.continuum.indentation.curves import (HOLD, LOAD, UNLOAD, LoadDisplacementCurve, check_curve, drift_rate)
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.io import read_curves, write_curve_group
 from filmscale.continuum.indentation.tips import berkovich
 from filmscale.core.errors import InputError

@@ -1,7 +1,8 @@
 """What a sphere calibration takes as the elastic segment of a curve with a pop-in, and where it
 puts the contact zero. Oracles: curves generated with a known E (the exact elastic sphere of
-Sneddon 1965 before the pop-in, the contact law after it), with a known zero offset, or with a known softening before the burst
-(the shape MD Cu(001) curves have, docs/md-indentation.md)."""
+Sneddon 1965 before the pop-in, the contact law after it), with a known zero offset, or with
+a known softening before the burst (the shape MD Cu(001) curves have,
+docs/md-indentation.md)."""
 
 import numpy as np
 import pytest

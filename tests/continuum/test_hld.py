@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD, synthetic_curve
+from filmscale.continuum.indentation.curves import HOLD, LOAD, UNLOAD
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.hld import parse_header, read_hld, si_unit
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
 from filmscale.continuum.indentation.tips import PolynomialArea, berkovich

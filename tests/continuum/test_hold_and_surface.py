@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, _derivative_kernel,
-                                                    synthetic_curve, unloading_start)
+from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, _derivative_kernel, unloading_start)
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.cycles import analyse_cycles
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
 from filmscale.continuum.indentation.surface import find_surface, parse_surface

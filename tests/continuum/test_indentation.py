@@ -8,7 +8,8 @@ import pytest
 
 from filmscale.continuum.indentation import (calibrate_frame_compliance, detect_pop_in, hertz_fit,
                                              nix_gao_fit, oliver_pharr)
-from filmscale.continuum.indentation.curves import LOAD, LoadDisplacementCurve, synthetic_curve
+from filmscale.continuum.indentation.curves import LOAD, LoadDisplacementCurve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.oliver_pharr import (FAILED, elastic_indent, sample_modulus,
                                                           shallow_depth_hardness)
 from filmscale.continuum.indentation.spherical import pop_in_shear_stress

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.indentation import oliver_pharr
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.cycles import analyse_cycles, synthetic_multicycle
 from filmscale.continuum.indentation.io import read_curves
 from filmscale.continuum.indentation.tips import berkovich

@@ -19,13 +19,15 @@ from filmscale.continuum.calibration import calibrate
 from filmscale.continuum.contact.impact_map import impact_map
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.contact.profiles import TableProfile
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve, synthetic_curve
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.io import read_curves
 from filmscale.continuum.indentation.oliver_pharr import check_curve_modulus, oliver_pharr
 from filmscale.continuum.indentation.tips import parse_tip
 from filmscale.core.checks import check_density, check_modulus, check_yield_strength
 from filmscale.core.errors import InputError
-from filmscale.workflows.scene import load_pipeline, parse_scene
+from filmscale.workflows.scene import parse_scene
+from filmscale.workflows.pipeline_scene import load_pipeline
 
 GLASS = ElasticPlastic(E=90e9, nu=0.25, sigma_y=2.4e9, name="glass")
 LAW = contact_law("hertz")

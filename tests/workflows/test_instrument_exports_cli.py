@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 from python_calamine import CalamineWorkbook
 
-from filmscale.continuum.indentation.curves import LOAD, synthetic_curve
+from filmscale.continuum.indentation.curves import LOAD
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.io import read_area_function, write_curve_group
 from filmscale.continuum.indentation.tips import PolynomialArea, berkovich
 from filmscale.core.files import atomic_h5

@@ -89,7 +89,7 @@ def test_bad_scene_keys_name_the_key(change, key):
 def test_pipeline_plans_and_stores_the_oblique_point(tmp_path):
     from filmscale.continuum.contact.oblique import REGIMES
     from filmscale.workflows.plan import plan_scene
-    from filmscale.workflows.scene import parse_pipeline
+    from filmscale.workflows.pipeline_scene import parse_pipeline
     from filmscale.workflows.units import impact_evaluation
     text = SCENE.format(mu=0.1).replace("velocity = 0.1", "velocity = 0.1\nangle = 80")
     pipeline = parse_pipeline(text + '[outputs]\nwant = ["maxima", "tangential"]\n')

@@ -15,7 +15,7 @@ from filmscale.workflows import pipeline as pl
 from filmscale.workflows.plan import plan_scene
 from filmscale.workflows.report import write_figure, write_report
 from filmscale.workflows.result import RESULT_FORMAT
-from filmscale.workflows.scene import parse_pipeline
+from filmscale.workflows.pipeline_scene import parse_pipeline
 
 BASE = """
 [impactor]
@@ -434,7 +434,8 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
     own elastic constants of its film and substrate."""
     from filmscale.continuum.indentation.io import write_curve_group
     from filmscale.core.files import atomic_h5
-    from filmscale.workflows.units import calibration_unit, done_record, source_units
+    from filmscale.workflows.store import done_record
+    from filmscale.workflows.units import calibration_unit, source_units
 
     store = tmp_path / "store"
     (tmp_path / "film.toml").write_text(FILM_SPEC)

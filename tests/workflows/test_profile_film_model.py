@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.contact.profiles import TableProfile
-from filmscale.continuum.indentation.curves import synthetic_curve
+from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.film_substrate import film_modulus
 from filmscale.continuum.indentation.property_profile import property_profile
 from filmscale.continuum.indentation.size_effect import nix_gao_fit

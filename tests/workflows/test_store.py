@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from filmscale.workflows import pipeline as pl
-from filmscale.workflows.scene import parse_pipeline
-from filmscale.workflows.units import code_version
+from filmscale.workflows.pipeline_scene import parse_pipeline
+from filmscale.workflows.store import code_version
 from tests.workflows.test_pipeline import BASE, _sphere_curve_file
 
 CURVES_FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
@@ -152,7 +152,8 @@ def test_two_runs_of_an_ensemble_share_out_its_seeds(tmp_path):
 def test_a_run_unit_stored_with_its_curve_as_arrays_still_reads(tmp_path):
     """Before MD units kept indent.h5 they held curve.npz (particle units still do): such a
     unit, finished with its checksums, gives back the curve it stored."""
-    from filmscale.workflows.units import finish_unit, unit_curve
+    from filmscale.workflows.store import finish_unit
+    from filmscale.workflows.units import unit_curve
     h = np.linspace(0.0, 2e-9, 7)
     P = 1e-6 * (h / 2e-9) ** 1.5
     segment = np.array([0, 0, 0, 0, 1, 2, 2])

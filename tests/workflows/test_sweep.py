@@ -9,7 +9,7 @@ import pytest
 from filmscale.core.errors import InputError
 from filmscale.workflows import pipeline as pl
 from filmscale.workflows.cli import main
-from filmscale.workflows.scene import parse_pipeline
+from filmscale.workflows.pipeline_scene import parse_pipeline
 from filmscale.workflows.sweep import expand, load_sweep, run_sweep
 from tests.workflows.test_pipeline import BASE, _sphere_curve_file
 

@@ -24,6 +24,7 @@ demo: $(STAMP)
 	$(BIN)/filmscale report demo_output/demo.h5 --figure demo_output/demo.png
 
 test: $(STAMP)
+	$(BIN)/ruff check .
 	$(BIN)/python -m pytest
 
 test-all: $(STAMP)

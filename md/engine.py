@@ -352,45 +352,6 @@ def _run_mpirun(input_path: Path, run_dir: Path, log_path: Path, options: Engine
 
 # ---- reading output ----------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class ThermoBlock:
-    """The thermo output of one ``run`` command (metal units, as LAMMPS printed it)."""
-
-    columns: tuple[str, ...]
-    data: np.ndarray          #: rows of numbers, one per thermo output
-    complete: bool            #: False when the run stopped before its "Loop time" line
-
-    def column(self, name: str) -> np.ndarray:
-        return self.data[:, self.columns.index(name)]
-
-
-def parse_log(text: str) -> list[ThermoBlock]:
-    """Thermo blocks of a LAMMPS log, one per run; lines that interrupt a block (warnings)
-    are skipped, and a block cut short by a crash is kept with ``complete=False``."""
-    blocks = []
-    columns, rows = None, []
-    for line in text.splitlines():
-        words = line.split()
-        if columns is None:
-            if words and words[0] == "Step":
-                columns, rows = tuple(words), []
-            continue
-        if line.startswith("Loop time"):
-            blocks.append(ThermoBlock(columns, np.array(rows, float).reshape(-1, len(columns)),
-                                      True))
-            columns = None
-            continue
-        if len(words) == len(columns):
-            try:
-                rows.append([float(w) for w in words])
-            except ValueError:
-                pass
-    if columns is not None:
-        blocks.append(ThermoBlock(columns, np.array(rows, float).reshape(-1, len(columns)),
-                                  False))
-    return blocks
-
-
 def parse_table(text: str) -> tuple[tuple[str, ...], np.ndarray]:
     """A ``fix print`` or ``fix ave/time`` file: the last ``#`` header line names the columns;
     rows that do not parse completely (a run killed while writing) are dropped."""

@@ -30,13 +30,7 @@ _WHERE = {
     "LayerStack": "materials", "reduced_modulus": "materials",
 }
 
-__all__ = [
-    "ElasticPlastic", "Layer", "LayerStack", "DIAMOND", "reduced_modulus",
-    "LoadDisplacementCurve", "read_curves", "Tip", "parse_tip", "oliver_pharr", "hertz_fit",
-    "dao_forward", "dao_reverse",
-    "calibrate_sphere", "calibrate_sharp", "Calibration",
-    "contact_law", "StackProfile", "ImpactModel", "solve_impact", "impact_map",
-    "elastic_impact",
-]
+#: every name of the lazy table is public
+__all__ = list(_WHERE)
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

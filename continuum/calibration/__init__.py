@@ -20,12 +20,10 @@ _WHERE = {
     "calibrate_sharp": "sharp", "size_effect": "sharp", "with_size_effect": "sharp",
     "calibrate_sphere": "sphere",
     "SphereTarget": "target",
+    "PopInStatistics": "pop_in",
 }
 
-__all__ = [
-    "calibrate", "calibrate_ensemble", "SphereTarget", "calibrate_sphere", "calibrate_sharp", "with_size_effect", "size_effect",
-    "combine", "sphere_part", "sharp_part", "CalibrationPart",
-    "Calibration", "Parameter", "CrossCheck",
-]
+#: every name of the lazy table is public
+__all__ = list(_WHERE)
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -1,7 +1,8 @@
 """filmscale.continuum.contact: a material (or layer stack) -> the impact of a rigid body.
 
 Hertz contact and elastic impact (`hertz`), elastic-plastic sphere contact laws (`laws`),
-the exact elastic rigid sphere and a law wrapper with it as elastic branch (`sneddon`),
+the exact elastic rigid sphere and a law wrapper with it as elastic branch (`sneddon`), the
+exact elastic film-on-substrate solution (`coated`),
 depth profiles of layered targets (`profiles`), unloading and restitution (`restitution`),
 the impact model with its maxima fast path and time integration (`impact`) and impact maps
 (`impact_map`), oblique impact (`oblique`) and the line-contact impact of a finite cylinder
@@ -22,23 +23,19 @@ _WHERE = {
     "MAP_FIELDS": "impact_map", "ImpactMap": "impact_map", "impact_map": "impact_map",
     "LAW_NAMES": "laws", "ContactLaw": "laws", "Hertz": "laws", "JacksonGreen": "laws",
     "KogutEtsion": "laws", "KomvopoulosYe": "laws", "Thornton": "laws", "contact_law": "laws",
-    "ObliqueResult": "oblique", "solve_oblique": "oblique",
-    # importable from the package, not in __all__ (tests/test_api.py caps it at 30 names)
+    "ObliqueResult": "oblique", "solve_oblique": "oblique", "oblique_map": "oblique",
+    "CylinderImpactHistory": "cylinder", "CylinderMap": "impact_map",
+    "cylinder_map": "impact_map",
     "SneddonElastic": "sneddon", "sneddon_force": "sneddon",
+    "coated_solution": "coated", "coated_sphere_load": "coated",
+    "flat_punch_stiffness": "coated", "apparent_modulus": "coated",
     "DepthProfile": "profiles", "StackProfile": "profiles", "TableProfile": "profiles",
     "UniformProfile": "profiles",
     "UNLOADING_MODELS": "restitution", "thornton_restitution": "restitution",
     "ImpactHistory": "results", "ImpactMaxima": "results", "ImpactResult": "results",
 }
 
-__all__ = [
-    "contact_law", "LAW_NAMES", "ContactLaw", "Hertz", "KomvopoulosYe", "KogutEtsion",
-    "JacksonGreen", "Thornton",
-    "elastic_impact", "elastic_impact_time", "first_yield", "yield_velocity",
-    "DepthProfile", "UniformProfile", "StackProfile", "TableProfile",
-    "ImpactModel", "ImpactResult", "ImpactMaxima", "ImpactHistory", "solve_impact",
-    "solve_oblique", "ObliqueResult", "CylinderImpactModel", "CylinderImpactResult",
-    "impact_map", "ImpactMap", "MAP_FIELDS", "UNLOADING_MODELS", "thornton_restitution",
-]
+#: every name of the lazy table is public
+__all__ = list(_WHERE)
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -28,16 +28,11 @@ _WHERE = {
     "SphericalCone": "tips", "Tip": "tips", "calibrate_area_function": "tips",
     "fit_tip_radius": "tips", "parse_tip": "tips",
     "csm_analysis": "csm", "CSMResult": "csm", "find_surface": "surface",
+    "film_modulus": "film_substrate", "FilmModulus": "film_substrate",
+    "depth_trend": "size_effect",
 }
 
-__all__ = [
-    "LoadDisplacementCurve", "check_curve", "synthetic_curve", "read_curves", "ReadOptions",
-    "analyse_cycles", "calibrate_tip", "TipCalibration",
-    "Tip", "Sphere", "Cone", "SphericalCone", "FlatPunch", "PolynomialArea", "parse_tip",
-    "calibrate_area_function", "fit_tip_radius",
-    "oliver_pharr", "OliverPharrResult", "calibrate_frame_compliance", "shallow_depth_hardness",
-    "hertz_fit", "detect_pop_in", "elastic_limit", "nix_gao_fit", "property_profile",
-    "csm_analysis", "CSMResult", "find_surface",
-]
+#: every name of the lazy table is public
+__all__ = list(_WHERE)
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

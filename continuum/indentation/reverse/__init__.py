@@ -20,11 +20,7 @@ _WHERE = {
     "CrossValidation": "validation", "cross_validate": "validation", "fe_error_table": "validation",
 }
 
-__all__ = [
-    "dao_forward", "dao_reverse", "dao_reverse_repeated", "dual_reverse",
-    "ForwardResult", "ReverseResult", "DualResult", "sharp_tip", "sharp_calibration",
-    "loading_curvature",
-    "E_I_DAO", "NU_I_DAO", "cross_validate", "CrossValidation", "fe_error_table",
-]
+#: every name of the lazy table is public
+__all__ = list(_WHERE)
 
 __getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -24,7 +24,7 @@ from pathlib import Path
 from filmscale.continuum.calibration import calibrate
 from filmscale.continuum.calibration.sphere import HERTZ_FRACTION, calibrate_sphere
 from filmscale.continuum.indentation.spherical import loading_points
-from filmscale.md.units import to_si
+from filmscale.md.lammps_units import lammps_to_si
 from filmscale.workflows.pipeline_scene import CalibrationSource
 from filmscale.workflows.store import done_record
 from filmscale.workflows.units import run_unit, unit_curve
@@ -121,7 +121,7 @@ def causes(store: Path, base: Path, ranks: int) -> None:
         name = f"thick-K{K:g}-{orientation}.toml"
         text = THICK_CU.replace('orientation = "001"', f'orientation = "{orientation}"')
         text = text.replace("radius = 1.5e-9", f"radius = 1.5e-9\nK = "
-                            f"{float(to_si(K, 'indent_constant'))!r}")
+                            f"{float(lammps_to_si(K, 'indent_constant'))!r}")
         (base / name).write_text(text)
         src = CalibrationSource(0, "Cu", "md", (name,), ranks, tip_material="rigid")
         start = time.perf_counter()

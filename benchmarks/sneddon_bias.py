@@ -44,14 +44,14 @@ def recorded_ci_curve() -> LoadDisplacementCurve:
     """The recorded ci run's curve in SI, as `filmscale.md.run.read_run` builds it."""
     from filmscale.md.engine import parse_table
     from filmscale.md.spec import preset
-    from filmscale.md.units import to_si
+    from filmscale.md.lammps_units import lammps_to_si
     spec = preset("ci")
     columns, data = parse_table((ROOT / "tests/md/recorded/ci/indent.dat").read_text())
     data = data[np.unique(data[:, 0], return_index=True)[1]]
     col = {name: data[:, i] for i, name in enumerate(columns)}
     return LoadDisplacementCurve(
-        h=to_si(col["depth"], "length"), P=to_si(col["load"], "force"),
-        t=to_si(col["time"], "time"), segment=spec.protocol.schedule().segment(
+        h=lammps_to_si(col["depth"], "length"), P=lammps_to_si(col["load"], "force"),
+        t=lammps_to_si(col["time"], "time"), segment=spec.protocol.schedule().segment(
             data[:, 0].astype(int)), indenter=spec.indenter.tip,
         meta={"source": "tests/md/recorded/ci"})
 

@@ -26,7 +26,7 @@ _WHERE = {
     "ParticleIndentSpec": "particles", "ParticleImpactSpec": "particles",
     "run_particles": "particle_run",
     "EngineOptions": "engine", "LammpsError": "engine", "LammpsUnavailable": "engine",
-    "to_si": "units", "from_si": "units",
+    "lammps_to_si": "lammps_units", "si_to_lammps": "lammps_units",
 }
 
 __all__ = sorted(_WHERE)

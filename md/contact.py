@@ -31,7 +31,7 @@ from filmscale.core.checks import check_path, check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.core.files import excerpt
 
-from .units import from_si, to_si
+from .lammps_units import si_to_lammps, lammps_to_si
 
 #: default contact tolerance of `contact_geometry`, in the caller's length unit: meant for
 #: Angstrom (0.5 A); `ContactAnalysis` takes it in metres (0.5e-10 m)
@@ -246,11 +246,11 @@ class ContactAnalysis(AnalysisBase):
                              f"{type(atomgroup).__name__}")
         super().__init__(atomgroup.universe.trajectory, **kwargs)
         self._ag = atomgroup
-        self._radius = from_si(check_positive("radius", radius, unit="m"), "length")
+        self._radius = si_to_lammps(check_positive("radius", radius, unit="m"), "length")
         xy = _as_array("center_xy", center_xy, (2,))
-        self._center_xy = from_si(xy, "length")
-        self._surface_z = from_si(check_real("surface_z", surface_z, unit="m"), "length")
-        self._tolerance = from_si(check_real("tolerance", tolerance, low=0.0, unit="m"),
+        self._center_xy = si_to_lammps(xy, "length")
+        self._surface_z = si_to_lammps(check_real("surface_z", surface_z, unit="m"), "length")
+        self._tolerance = si_to_lammps(check_real("tolerance", tolerance, low=0.0, unit="m"),
                                   "length")
         self._pile_up_ring = check_real("pile_up_ring", pile_up_ring, low=1.0,
                                         high=math.inf, high_open=True)
@@ -288,7 +288,7 @@ class ContactAnalysis(AnalysisBase):
             origin = np.zeros(3)
         z_c = check_real(f"center_z({step})", self._center_z(int(step)), unit="m")
         # inputs are LAMMPS coordinates; MDAnalysis positions are relative to the box corner
-        center = np.array([*self._center_xy, from_si(z_c, "length")]) - origin
+        center = np.array([*self._center_xy, si_to_lammps(z_c, "length")]) - origin
         frame = contact_geometry(np.asarray(self._ag.positions, dtype=float), center,
                                  self._radius, self._surface_z - origin[2],
                                  box_xy=self._box_xy(ts), tolerance=self._tolerance,
@@ -317,7 +317,7 @@ class ContactAnalysis(AnalysisBase):
         self.results.step = self._step
         self.results.n_contact = self._n_contact
         for key, dim in _RESULT_DIMENSIONS.items():
-            self.results[key] = to_si(self._metal[key], dim)
+            self.results[key] = lammps_to_si(self._metal[key], dim)
 
 
 def read_dumps(paths: str | os.PathLike | Sequence[str | os.PathLike], *, dt=None,
@@ -363,7 +363,7 @@ def read_dumps(paths: str | os.PathLike | Sequence[str | os.PathLike], *, dt=Non
     for p in paths:
         if not os.path.isfile(p):
             raise FileNotFoundError(f"LAMMPS dump file not found: {p}")
-    dt_ps = 1.0 if dt is None else from_si(check_positive("dt", dt, unit="s"), "time")
+    dt_ps = 1.0 if dt is None else si_to_lammps(check_positive("dt", dt, unit="s"), "time")
     coordinates = paths[0] if len(paths) == 1 else paths
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Guessed all Masses to 1.0",

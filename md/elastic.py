@@ -23,7 +23,7 @@ from filmscale.core.checks import check_real
 from filmscale.md.engine import EngineOptions, LammpsError, run_input
 from filmscale.md.lammps_input import write_input
 from filmscale.md.structures import Crystal
-from filmscale.md.units import to_si
+from filmscale.md.lammps_units import lammps_to_si
 from filmscale.potentials import Potential
 
 #: LAMMPS pressure components in Voigt order (xx, yy, zz, yz, xz, xy); stress = -pressure.
@@ -114,7 +114,7 @@ def parse_states(log: str) -> tuple[np.ndarray, np.ndarray, tuple[float, float, 
     stresses = np.zeros((12, 6))
     for i, (k, e, p) in enumerate(states):
         strains[i, int(k)] = float(e)
-        stresses[i] = -to_si(np.array(p.split(), float), "pressure")
+        stresses[i] = -lammps_to_si(np.array(p.split(), float), "pressure")
     return strains, stresses, tuple(float(x) for x in lattice.groups())
 
 
@@ -149,5 +149,5 @@ def elastic_constants(potential: Potential, crystal: Crystal, *, strain: float =
     fit = stiffness_from_stress_strain(strains, stresses)
     return ElasticConstants(potential=potential.name, element=crystal.element,
                             structure=crystal.structure, C=fit.C,
-                            cell=tuple(float(to_si(x, "length")) for x in edges),
+                            cell=tuple(float(lammps_to_si(x, "length")) for x in edges),
                             strain=strain, fit_rms=fit.residual, average=voigt_reuss_hill(fit.C))

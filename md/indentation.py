@@ -26,7 +26,7 @@ from filmscale.continuum.indentation.tips import Cone, Sphere
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
 from filmscale.md.structures import Slab, SlabSpec, build_slab
-from filmscale.md.units import from_si, to_si
+from filmscale.md.lammps_units import si_to_lammps, lammps_to_si
 from filmscale.potentials import Potential
 from filmscale.potentials.lammps_words import check_name, shown
 
@@ -35,7 +35,7 @@ from filmscale.potentials.lammps_words import check_name, shown
 #: "What sets the elastic segment"): with the depth zero fitted, K = 10, 100 and 1000 give E
 #: within 2.5 % of each other; 1000 doubles the load noise at a 4 fs step, and 10 lets atoms
 #: sit 0.3 A inside the sphere, which with the zero held lowers E by 10 %.
-DEFAULT_K = float(to_si(100.0, "indent_constant"))
+DEFAULT_K = float(lammps_to_si(100.0, "indent_constant"))
 SEED_MAX = 900_000_000       #: LAMMPS random seeds are integers in [1, 900000000]
 
 
@@ -104,15 +104,15 @@ class RigidIndenter:
     def fix_command(self, x: float, y: float) -> str:
         """``fix indent`` (metal units, lengths in A): a sphere centred on v_z_tip + R, or a
         cone from v_z_tip (its apex flat) up to v_z_tip + height."""
-        K = from_si(self.K, "indent_constant")
+        K = si_to_lammps(self.K, "indent_constant")
         tip = self.tip
         if isinstance(tip, Sphere):
-            R = from_si(tip.R, "length")
+            R = si_to_lammps(tip.R, "length")
             return (f"variable z_center equal v_z_tip+{R:.10g}\n"
                     f"fix indenter all indent {K:.10g} "
                     f"sphere {x:.10g} {y:.10g} v_z_center {R:.10g} units box")
-        r0 = from_si(tip.tip_radius, "length")
-        H = from_si(self.height, "length")
+        r0 = si_to_lammps(tip.tip_radius, "length")
+        H = si_to_lammps(self.height, "length")
         r1 = r0 + H * math.tan(math.radians(tip.half_angle))
         return (f"variable z_top equal v_z_tip+{H:.10g}\n"
                 f"fix indenter all indent {K:.10g} "
@@ -293,7 +293,7 @@ def _setup_lines(spec: IndentSpec) -> list[str]:
         *spec.potential.pair_commands(spec.type_elements),
         "neighbor 2.0 bin",
         "neigh_modify delay 0 every 1 check yes",
-        f"timestep {_num(from_si(p.timestep, 'time'))}",
+        f"timestep {_num(si_to_lammps(p.timestep, 'time'))}",
     ]
 
 
@@ -312,7 +312,7 @@ def _integration_lines(spec: IndentSpec, seed: int) -> list[str]:
         "fix freeze fixed setforce 0.0 0.0 0.0",
         "fix integrate mobile nve",
         f"fix thermostat thermostat langevin {_num(p.temperature)} {_num(p.temperature)} "
-        f"{_num(from_si(p.damping, 'time'))} {seed} zero yes",
+        f"{_num(si_to_lammps(p.damping, 'time'))} {seed} zero yes",
         "compute mobile_temp mobile temp",
         "thermo_style custom step time temp c_mobile_temp pe",
         "thermo_modify flush yes",
@@ -324,12 +324,12 @@ def _indenter_lines(spec: IndentSpec, z_surface: str, record: str) -> list[str]:
     """The indenter, its record file and the thermo output that shows it."""
     p, slab = spec.protocol, spec.slab_built
     s = p.schedule()
-    lx, ly = (from_si(v, "length") for v in slab.box[:2])
+    lx, ly = (si_to_lammps(v, "length") for v in slab.box[:2])
     return [
         "# ---- the indenter: its apex height is a function of the absolute timestep",
         f"variable z_surface equal {z_surface}",
-        f"variable z_tip equal v_z_surface+{_num(from_si(p.gap, 'length'))}"
-        f"-{_num(from_si(s.dz, 'length'))}*"
+        f"variable z_tip equal v_z_surface+{_num(si_to_lammps(p.gap, 'length'))}"
+        f"-{_num(si_to_lammps(s.dz, 'length'))}*"
         f"({_clamp(f'step-{s.s_load}', s.n_down)}-{_clamp(f'step-{s.s_unload}', s.n_up)})",
         spec.indenter.fix_command(lx / 2.0, ly / 2.0),
         "variable depth equal v_z_surface-v_z_tip",
@@ -370,7 +370,7 @@ def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
     p, slab = spec.protocol, spec.slab_built
     s = p.schedule()
     seeds = derive_seeds(p.seed, ("velocity", "langevin"))
-    top = from_si(slab.z_surface - 0.5 * slab.surface_layer_gap, "length")
+    top = si_to_lammps(slab.z_surface - 0.5 * slab.surface_layer_gap, "length")
     lines = [
         f"# filmscale {version} atomistic nanoindentation: {spec.name}".replace("  ", " "),
         f"# {slab.n_atoms} atoms; {s.s_end} steps; master seed {p.seed}, derived seeds "
@@ -384,10 +384,10 @@ def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
         *_setup_lines(spec),
         "",
         "# ---- regions (A): rigid bottom, thermostatted layer, mobile atoms, top atomic layer",
-        f"region fixed block INF INF INF INF INF {_num(from_si(slab.z_fixed, 'length'))} "
+        f"region fixed block INF INF INF INF INF {_num(si_to_lammps(slab.z_fixed, 'length'))} "
         "units box",
-        f"region thermostat block INF INF INF INF {_num(from_si(slab.z_fixed, 'length'))} "
-        f"{_num(from_si(slab.z_thermostat, 'length'))} units box",
+        f"region thermostat block INF INF INF INF {_num(si_to_lammps(slab.z_fixed, 'length'))} "
+        f"{_num(si_to_lammps(slab.z_thermostat, 'length'))} units box",
         f"region surface block INF INF INF INF {_num(top)} INF units box",
         "group fixed region fixed",
         "group thermostat region thermostat",

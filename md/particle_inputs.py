@@ -8,7 +8,7 @@ the target: a small unbonded particle cluster carries the sphere's mass, its hei
 the indenter, and the indenter's reaction is applied to it, so the sphere decelerates and
 rebounds under the contact force.
 
-Numbers given to LAMMPS are in the ``particle`` unit system of `filmscale.md.units` (um, GPa,
+Numbers given to LAMMPS are in the ``particle`` unit system of `filmscale.md.lammps_units` (um, GPa,
 ns), converted here; everything here takes SI.
 """
 
@@ -21,7 +21,7 @@ from filmscale.continuum.materials import ElasticPlastic
 from filmscale.md.particles import (PERI_HORIZON, PYRAMID_FACE_ANGLES, Grid, ParticleImpactSpec,
                                     ParticleIndentSpec, ParticleMaterial, contact_radius,
                                     is_pyramid)
-from filmscale.md.units import from_si
+from filmscale.md.lammps_units import si_to_lammps
 
 #: TLSPH kernel diameter (interaction range) in spacings, as in the MACHDYN examples.
 TLSPH_KERNEL = 2.01
@@ -50,7 +50,7 @@ def _num(x: float) -> str:
 
 
 def _u(value: float, dimension: str) -> str:
-    return _num(from_si(value, dimension, "particle"))
+    return _num(si_to_lammps(value, dimension, "particle"))
 
 
 def _clamp_min(a: str, b: str) -> str:
@@ -62,9 +62,9 @@ def _scales(spec) -> tuple[float, float, float | None, float]:
     """The spacing dx and block depth D (on the lattice), the sphere radius R (None for other
     tips) and the largest E* of the target's materials, in particle units."""
     g = spec.grid
-    dx = from_si(g.spacing, "length", "particle")
-    R = from_si(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
-    E_star = max(from_si(m.material.plane_strain_modulus, "pressure", "particle")
+    dx = si_to_lammps(g.spacing, "length", "particle")
+    R = si_to_lammps(spec.tip.R, "length", "particle") if isinstance(spec.tip, Sphere) else None
+    E_star = max(si_to_lammps(m.material.plane_strain_modulus, "pressure", "particle")
                  for m in spec.target.materials)
     return dx, round(g.depth / g.spacing) * dx, R, E_star
 
@@ -73,7 +73,7 @@ def _block_lines(spec, n_types: int, top: float) -> list[str]:
     """The lattice, the block region and a box reaching up to ``top`` (particle units):
     the target's surface is z = 0 with a lattice point on the axis."""
     g = spec.grid
-    dx = from_si(g.spacing, "length", "particle")
+    dx = si_to_lammps(g.spacing, "length", "particle")
     W = round(g.width / g.spacing) * dx
     D = round(g.depth / g.spacing) * dx
     x_lo = -0.5 * dx if g.symmetric else -W - 0.5 * dx
@@ -98,7 +98,7 @@ def layer_lines(spec, dx: float) -> list[str]:
     lines = []
     top = 0.0
     for k, (t, _) in enumerate(spec.target.films, start=1):
-        bottom = top - from_si(t, "length", "particle")
+        bottom = top - si_to_lammps(t, "length", "particle")
         lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
                   f"{_num(top + 0.5 * dx)} units box",
                   f"set region layer{k} type {k}"]
@@ -112,7 +112,7 @@ def _weight_groups(grid: Grid, member: str) -> list[str]:
     quarter."""
     if not grid.symmetric:
         return [f"group interior union {member}", "group plane empty", "group axis empty"]
-    dx = from_si(grid.spacing, "length", "particle")
+    dx = si_to_lammps(grid.spacing, "length", "particle")
     h = _num(0.5 * dx)
     if grid.half:
         return [
@@ -196,7 +196,7 @@ def _sphere_geometry(R: float, centre: str) -> str:
 def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
     # the tip's own apex flat; fix indent needs radlo > 0, so a sharp tip is truncated at
     # a radius of 1 % of a spacing
-    r0 = from_si(tip.tip_radius, "length", "particle") if tip.tip_radius > 0 else 0.01 * dx
+    r0 = si_to_lammps(tip.tip_radius, "length", "particle") if tip.tip_radius > 0 else 0.01 * dx
     r1 = r0 + height * math.tan(math.radians(tip.half_angle))
     return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
             f"v_{apex}_top")
@@ -206,7 +206,7 @@ def _sphero_conical_lines(tip: SphericalCone, height: float) -> tuple[list[str],
     """A sphere of radius R at the apex and the cone frustum tangent to it from
     h_a = R (1 - sin theta) above the apex (radius R cos theta) upward: two ``fix indent``
     whose solids meet on the tangent circle, so a particle outside the tip feels one."""
-    R = from_si(tip.R, "length", "particle")
+    R = si_to_lammps(tip.R, "length", "particle")
     theta = math.radians(tip.half_angle)
     r_t = R * math.cos(theta)
     lines = [f"variable zc equal -v_depth+{_num(R)}",
@@ -232,8 +232,8 @@ def _pyramid_lines(spec, K: float, dx: float, scale: float = 1.0) -> list[str]:
                                             math.cos(face) * math.sin(math.radians(phi)),
                                             -math.sin(face)))
                for phi in (90.0, 210.0, 330.0)]
-    h_max = from_si(spec.loading.depth, "length", "particle")
-    reach = from_si(contact_radius(tip, spec.loading.depth), "length", "particle") + 2 * dx
+    h_max = si_to_lammps(spec.loading.depth, "length", "particle")
+    reach = si_to_lammps(contact_radius(tip, spec.loading.depth), "length", "particle") + 2 * dx
     lines = [
         "# ---- the pyramid: three faces through the apex; a particle inside is pushed out of",
         "#      its nearest face with K d^2 (fix indent's law)",
@@ -266,8 +266,8 @@ def _pyramid_lines(spec, K: float, dx: float, scale: float = 1.0) -> list[str]:
 
 def _tlsph_material(m: ParticleMaterial) -> str:
     mat = m.material
-    rho = from_si(m.density, "density", "particle")
-    E = from_si(mat.E, "pressure", "particle")
+    rho = si_to_lammps(m.density, "density", "particle")
+    E = si_to_lammps(mat.E, "pressure", "particle")
     common = (f"*COMMON {_num(rho)} {_num(E)} {_num(mat.nu)} {TLSPH_Q1} {TLSPH_Q2} "
               f"{TLSPH_HOURGLASS} 1.0")
     if m.elastic:
@@ -300,7 +300,7 @@ def _header(spec, version: str) -> list[str]:
         f"# filmscale {version} particle model ({spec.method}): {spec.name}".replace("  ", " "),
         f"# {g.n_particles} target particles, spacing {g.spacing:g} m",
         "# units: LAMMPS 'si' carrying um, GPa, ns (mass pg, force mN, density pg/um^3);",
-        "#        filmscale.md.units.PARTICLE converts them",
+        "#        filmscale.md.lammps_units.PARTICLE converts them",
         f"# replay: lmp -in in.{spec.method}  (in this directory)",
     ]
 
@@ -308,7 +308,7 @@ def _header(spec, version: str) -> list[str]:
 def _impactor_top(spec, dx: float) -> float:
     """Height of the box's top in an impact: above the cluster, which starts at the sphere
     centre (particle units)."""
-    return from_si(spec.tip.R, "length", "particle") + 2.0 * dx
+    return si_to_lammps(spec.tip.R, "length", "particle") + 2.0 * dx
 
 
 def _impactor_lines(spec: ParticleImpactSpec, dx: float, create: str) -> list[str]:
@@ -318,7 +318,7 @@ def _impactor_lines(spec: ParticleImpactSpec, dx: float, create: str) -> list[st
     g = spec.grid
     W = round(g.width / g.spacing) * dx
     x0 = W - dx
-    z0 = from_si(spec.tip.R, "length", "particle")
+    z0 = si_to_lammps(spec.tip.R, "length", "particle")
     return [
         "# ---- the impactor: an unbonded particle cluster carries the sphere's mass; its",
         "#      height drives the indenter and the indenter's reaction drives it",
@@ -395,8 +395,8 @@ def _record_row(impact: bool) -> str:
 def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
                    D: float, scale: float = 1.0) -> list[str]:
     p = spec.loading
-    v = from_si(p.speed, "velocity", "particle")
-    t1, t2, _ = (from_si(t, "time", "particle") for t in p.times)
+    v = si_to_lammps(p.speed, "velocity", "particle")
+    t1, t2, _ = (si_to_lammps(t, "time", "particle") for t in p.times)
     down = _clamp_min("v_t", _num(t1))
     up = f"0.5*((v_t-{_num(t2)})+abs(v_t-{_num(t2)}))"
     lines = [
@@ -429,8 +429,8 @@ def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: floa
 
 def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
                    scale: float = 1.0, imp_mass_scale: float = 1.0) -> list[str]:
-    m = from_si(spec.mass, "mass", "particle") / spec.grid.symmetry_factor
-    V = from_si(spec.velocity, "velocity", "particle")
+    m = si_to_lammps(spec.mass, "mass", "particle") / spec.grid.symmetry_factor
+    V = si_to_lammps(spec.velocity, "velocity", "particle")
     return [
         "# ---- the free sphere: touching the surface at t = 0, moving down at V",
         "variable n_imp equal count(imp)",
@@ -475,7 +475,7 @@ def _run_lines(spec, fields: str) -> list[str]:
     impact = isinstance(spec, ParticleImpactSpec)
     steps = estimated_steps(spec)
     frames = spec.frames if impact else spec.loading.frames
-    end = from_si(spec.end_time if impact else spec.loading.times[2], "time", "particle")
+    end = si_to_lammps(spec.end_time if impact else spec.loading.times[2], "time", "particle")
     lines = [f"thermo {max(1, steps // 50)}"]
     if frames:
         lines.append(f"dump fields all custom {max(1, steps // frames)} fields.*.dump id type "
@@ -488,7 +488,7 @@ def _run_lines(spec, fields: str) -> list[str]:
     else:
         # or the tip has left the surface while unloading (a plastic residual impression
         # would otherwise cost up to half the run)
-        t2 = from_si(spec.loading.times[1], "time", "particle")
+        t2 = si_to_lammps(spec.loading.times[1], "time", "particle")
         lines.append(f"variable stop equal v_finished+(v_t>{_num(t2)})*(v_load<=0)")
     # the state where the run halted closes the record (the halt test and the record
     # interval differ, so the last recorded point may still carry load)
@@ -564,11 +564,11 @@ def peri_input(spec, version: str = "") -> str:
         for i in range(1, n_types + 1):
             for j in range(i, n_types + 1):
                 Ki, Kj = mats[i - 1].material.bulk_modulus, mats[j - 1].material.bulk_modulus
-                K = from_si(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
+                K = si_to_lammps(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
                 spring = 18 * K / (math.pi * horizon**4)
                 lines.append(f"pair_coeff {i} {j} {_num(spring)} {_num(horizon)} 1.0 0.0")
     c = max(m.wave_speed for m in mats)
-    dt = from_si(PERI_DT_FACTOR * g.spacing / c, "time", "particle")
+    dt = si_to_lammps(PERI_DT_FACTOR * g.spacing / c, "time", "particle")
     lines += [
         "",
         "# ---- rigid base; fixed timestep (PERI has no adaptive step)",

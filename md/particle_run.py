@@ -30,7 +30,7 @@ from filmscale.md.lammps_input import write_input
 from filmscale.md.particle_inputs import (IMPACT_COLUMNS, INDENT_COLUMNS, RECORD, estimated_steps,
                                           input_text)
 from filmscale.md.particles import ParticleImpactSpec, ParticleIndentSpec
-from filmscale.md.units import to_si
+from filmscale.md.lammps_units import lammps_to_si
 
 STATE_FILE = "state.json"
 #: The unloading load below which the contact counts as open: 1 % of the peak load.
@@ -62,8 +62,8 @@ def read_snapshot(path: Path | str) -> FieldSnapshot:
     col = {name: data[:, k] for k, name in enumerate(names)}
     xyz = np.column_stack([col["x"], col["y"], col["z"]])
     return FieldSnapshot(
-        step=step, ids=col["id"].astype(int), positions=to_si(xyz, "length", "particle"),
-        von_mises=to_si(col["c_stress[7]"], "pressure", "particle")
+        step=step, ids=col["id"].astype(int), positions=lammps_to_si(xyz, "length", "particle"),
+        von_mises=lammps_to_si(col["c_stress[7]"], "pressure", "particle")
         if "c_stress[7]" in col else None,
         plastic_strain=col.get("c_ep"), damage=col.get("c_damage"))
 
@@ -155,15 +155,15 @@ def read_particles(spec: ParticleIndentSpec | ParticleImpactSpec,
     data = data[np.unique(data[:, 0], return_index=True)[1]]   # a row repeats at run start
     col = dict(zip(expected, data.T))
     depth = col["approach"] if impact else col["depth"]
-    extra = to_si(col["velocity"], "velocity", "particle") if impact else \
-        -to_si(col["apex"], "length", "particle")
+    extra = lammps_to_si(col["velocity"], "velocity", "particle") if impact else \
+        -lammps_to_si(col["apex"], "length", "particle")
     log = (run_dir / f"log.{state['input']}").read_text(errors="replace")
     steps = [int(s) for s in _loop_steps(log)]
     snapshots = tuple(sorted(run_dir.glob("fields.*.dump"),
                              key=lambda p: int(p.stem.split(".")[1])))
-    return ParticleRun(spec=spec, run_dir=run_dir, time=to_si(col["time"], "time", "particle"),
-                       depth=to_si(depth, "length", "particle"),
-                       load=to_si(col["load"], "force", "particle"), extra=extra,
+    return ParticleRun(spec=spec, run_dir=run_dir, time=lammps_to_si(col["time"], "time", "particle"),
+                       depth=lammps_to_si(depth, "length", "particle"),
+                       load=lammps_to_si(col["load"], "force", "particle"), extra=extra,
                        snapshots=snapshots, steps=sum(steps),
                        wall_time=float(state.get("wall_time", 0.0)))
 

@@ -30,7 +30,7 @@ from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_inp
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
                                       derive_seeds, indentation_input, resume_input)
 from filmscale.md.lammps_input import write_input
-from filmscale.md.units import to_si
+from filmscale.md.lammps_units import lammps_to_si
 
 STATE_FILE = "state.json"
 _RESTART = re.compile(r"^restart\.(\d+)\.bin$")
@@ -168,8 +168,8 @@ def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
     col = {name: data[:, i] for i, name in enumerate(RECORD_COLUMNS)}
     z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
     curve = LoadDisplacementCurve(
-        h=to_si(col["depth"], "length"), P=to_si(col["load"], "force"),
-        t=to_si(col["time"], "time"), segment=schedule.segment(steps),
+        h=lammps_to_si(col["depth"], "length"), P=lammps_to_si(col["load"], "force"),
+        t=lammps_to_si(col["time"], "time"), segment=schedule.segment(steps),
         indenter=spec.indenter.tip,
         meta={"source": "filmscale.md atomistic indentation", "name": spec.name,
               "run_dir": str(run_dir), "potential": spec.potential.name,
@@ -177,7 +177,7 @@ def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
     dumps = tuple(sorted((int(p.stem.split(".")[1]), p)
                          for p in (run_dir / "dumps").glob("indent.*.lammpstrj")))
     return IndentRun(spec=spec, run_dir=run_dir, curve=curve,
-                     z_surface=float(to_si(z_surface, "length")), steps=steps,
+                     z_surface=float(lammps_to_si(z_surface, "length")), steps=steps,
                      parts=tuple(parts), dumps=dumps,
                      wall_time=sum(p.get("wall_time", 0.0) for p in parts),
                      engine=state.get("engine", {}))

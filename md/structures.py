@@ -23,7 +23,7 @@ from ase.lattice.cubic import BodyCenteredCubic, FaceCenteredCubic
 
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
-from filmscale.md.units import from_si, to_si
+from filmscale.md.lammps_units import si_to_lammps, lammps_to_si
 from filmscale.potentials.lammps_words import shown
 
 #: Crystal axes (x, y, z) for each surface orientation of the cubic lattices; z is the
@@ -76,9 +76,9 @@ class Crystal:
             raise InputError(f"orientation = {shown(orientation)} is not available for "
                              f"{self.structure}; choose one of "
                              f"{', '.join(ORIENTATIONS[self.structure])}")
-        a = from_si(self.a, "length")
+        a = si_to_lammps(self.a, "length")
         if self.structure == "hcp":
-            c = from_si(self.c, "length") if self.c is not None else a * math.sqrt(8.0 / 3.0)
+            c = si_to_lammps(self.c, "length") if self.c is not None else a * math.sqrt(8.0 / 3.0)
             cell = bulk(self.element, "hcp", a=a, c=c, orthorhombic=True)
         else:
             factory = FaceCenteredCubic if self.structure == "fcc" else BodyCenteredCubic
@@ -165,7 +165,7 @@ class Slab:
     @property
     def thickness(self) -> float:
         """Height of the atoms, bottom to surface, m."""
-        return self.z_surface - float(to_si(self.atoms.positions[:, 2].min(), "length"))
+        return self.z_surface - float(lammps_to_si(self.atoms.positions[:, 2].min(), "length"))
 
     def to_dict(self) -> dict:
         return {"n_atoms": self.n_atoms, "box": list(self.box), "z_fixed": self.z_fixed,
@@ -184,7 +184,7 @@ def build_slab(spec: SlabSpec) -> Slab:
     """Stack the substrate and the films, strained laterally to the substrate."""
     sub_cell = spec.substrate.crystal.unit_cell(spec.orientation)
     px, py = sub_cell.cell[0, 0], sub_cell.cell[1, 1]
-    target = from_si(spec.lateral_size, "length")
+    target = si_to_lammps(spec.lateral_size, "length")
     nx, ny = max(1, round(target / px)), max(1, round(target / py))
     Lx, Ly = nx * px, ny * py
 
@@ -193,13 +193,13 @@ def build_slab(spec: SlabSpec) -> Slab:
     for label, layer in reversed(spec.layers()):          # substrate first, bottom up
         cell = layer.crystal.unit_cell(spec.orientation)
         pz = cell.cell[2, 2]
-        periods.append(to_si(pz, "length"))
-        thickness = from_si(layer.thickness, "length")
+        periods.append(lammps_to_si(pz, "length"))
+        thickness = si_to_lammps(layer.thickness, "length")
         if thickness < pz * (1 - 1e-9):
             raise InputError(
                 f"{label}.thickness = {layer.thickness:.4g} m is thinner than one lattice "
                 f"period along [{spec.orientation}] of {layer.crystal.element} "
-                f"({to_si(pz, 'length'):.4g} m)")
+                f"({lammps_to_si(pz, 'length'):.4g} m)")
         nz = max(1, round(thickness / pz))
         mx, my = max(1, round(Lx / cell.cell[0, 0])), max(1, round(Ly / cell.cell[1, 1]))
         block = cell.repeat((mx, my, nz))
@@ -216,34 +216,34 @@ def build_slab(spec: SlabSpec) -> Slab:
         pieces.append(block)
         z_top = float(block.positions[:, 2].max())
         below_spacing = float(spacings[-1])
-        tops.append(to_si(z_top, "length"))
+        tops.append(lammps_to_si(z_top, "length"))
         if label != "substrate":
             misfits.append(strain)
 
     atoms = pieces[0]
     for block in pieces[1:]:
         atoms += block
-    vacuum = from_si(spec.vacuum, "length")
+    vacuum = si_to_lammps(spec.vacuum, "length")
     atoms.set_cell([Lx, Ly, z_top + vacuum])
     atoms.pbc = (True, True, False)
     atoms.set_masses([atomic_masses[atomic_numbers[s]] for s in atoms.get_chemical_symbols()])
 
     z = atoms.positions[:, 2]
     top_layer = z > z_top - 0.25 * below_spacing
-    z_fixed = from_si(spec.fixed_thickness, "length")
-    z_thermo = z_fixed + from_si(spec.thermostat_thickness, "length")
+    z_fixed = si_to_lammps(spec.fixed_thickness, "length")
+    z_thermo = z_fixed + si_to_lammps(spec.thermostat_thickness, "length")
     if z_thermo >= z_top - below_spacing:
         raise InputError(
             f"fixed_thickness + thermostat_thickness = "
             f"{spec.fixed_thickness + spec.thermostat_thickness:.4g} m leaves no mobile atoms "
-            f"in a slab {to_si(z_top, 'length'):.4g} m thick")
+            f"in a slab {lammps_to_si(z_top, 'length'):.4g} m thick")
     symbols = atoms.get_chemical_symbols()
     counts = {e: symbols.count(e) for e in spec.elements}
-    return Slab(atoms=atoms, box=(to_si(Lx, "length"), to_si(Ly, "length"),
-                                  to_si(z_top + vacuum, "length")),
-                z_fixed=spec.fixed_thickness, z_thermostat=to_si(z_thermo, "length"),
-                z_surface=to_si(float(z[top_layer].mean()), "length"),
-                surface_layer_gap=to_si(below_spacing, "length"),
+    return Slab(atoms=atoms, box=(lammps_to_si(Lx, "length"), lammps_to_si(Ly, "length"),
+                                  lammps_to_si(z_top + vacuum, "length")),
+                z_fixed=spec.fixed_thickness, z_thermostat=lammps_to_si(z_thermo, "length"),
+                z_surface=lammps_to_si(float(z[top_layer].mean()), "length"),
+                surface_layer_gap=lammps_to_si(below_spacing, "length"),
                 layer_tops=tuple(reversed(tops)),
                 misfit=tuple(reversed(misfits)),
                 lattice_period=tuple(reversed(periods)), element_counts=counts)

@@ -8,7 +8,7 @@ between a film particle and a substrate particle carry both stresses, so the int
 bonded continuum with no contact law of its own. Each material is one particle type, the
 films top first as in the PERI model.
 
-Numbers given to LAMMPS are in the ``particle`` unit system of `filmscale.md.units` (um, GPa,
+Numbers given to LAMMPS are in the ``particle`` unit system of `filmscale.md.lammps_units` (um, GPa,
 ns), converted here; everything here takes SI.
 """
 

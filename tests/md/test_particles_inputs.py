@@ -16,7 +16,7 @@ from filmscale.md.particle_run import (ParticleRun, analyze_impact, block_hertz_
 from filmscale.md.particle_spec import PRESETS, preset, spec_from_mapping
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
-from filmscale.md.units import from_si, to_si
+from filmscale.md.lammps_units import si_to_lammps, lammps_to_si
 
 R = 1e-6
 M_IMPACT = 1.0382e-13     # kg: Hertz delta_max = 0.1 R at 50 m/s on Al
@@ -34,16 +34,16 @@ def indent_spec(**kw):
 
 def test_particle_units_are_um_gpa_ns():
     # force = GPa um^2 = 1 mN; mass = force time^2 / length = 1 pg; 2700 kg/m^3 = 2.7 pg/um^3
-    assert to_si(1.0, "force", "particle") == pytest.approx(1e-3, rel=1e-15)
-    assert to_si(1.0, "mass", "particle") == pytest.approx(1e-15, rel=1e-15)
-    assert from_si(2700.0, "density", "particle") == pytest.approx(2.7, rel=1e-15)
-    assert from_si(50.0, "velocity", "particle") == pytest.approx(0.05, rel=1e-15)
+    assert lammps_to_si(1.0, "force", "particle") == pytest.approx(1e-3, rel=1e-15)
+    assert lammps_to_si(1.0, "mass", "particle") == pytest.approx(1e-15, rel=1e-15)
+    assert si_to_lammps(2700.0, "density", "particle") == pytest.approx(2.7, rel=1e-15)
+    assert si_to_lammps(50.0, "velocity", "particle") == pytest.approx(0.05, rel=1e-15)
     # consistency: force = mass * length / time^2 and pressure * area
-    f = to_si(1.0, "mass", "particle") * to_si(1.0, "length", "particle") / \
-        to_si(1.0, "time", "particle")**2
-    assert f == pytest.approx(to_si(1.0, "force", "particle"), rel=1e-15)
+    f = lammps_to_si(1.0, "mass", "particle") * lammps_to_si(1.0, "length", "particle") / \
+        lammps_to_si(1.0, "time", "particle")**2
+    assert f == pytest.approx(lammps_to_si(1.0, "force", "particle"), rel=1e-15)
     with pytest.raises(KeyError, match="unknown unit system"):
-        to_si(1.0, "force", "cgs")
+        lammps_to_si(1.0, "force", "cgs")
 
 
 @pytest.mark.parametrize("change, field", [
@@ -108,7 +108,7 @@ def test_impact_input_drives_the_sphere_by_the_reaction():
                               Grid(R / 5, 2 * R, 2 * R))
     text = input_text(spec)
     # a quarter of the mass (pg) and a quarter of the load on the cluster
-    assert f"variable m_imp equal {from_si(M_IMPACT, 'mass', 'particle') / 4:.10g}/v_n_imp" \
+    assert f"variable m_imp equal {si_to_lammps(M_IMPACT, 'mass', 'particle') / 4:.10g}/v_n_imp" \
         in text
     assert "variable push equal v_load/4/v_n_imp" in text
     assert text.index("fix ind_axis") < text.index("fix push")   # reads the current force

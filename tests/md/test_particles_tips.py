@@ -18,7 +18,7 @@ from filmscale.md.particle_run import (ParticleRun, analyze_indent, block_elasti
                                        sneddon_force, sphero_conical_force)
 from filmscale.md.particles import (Grid, IndentLoading, ParticleIndentSpec, ParticleMaterial,
                                     ParticleTarget, contact_radius)
-from filmscale.md.units import from_si
+from filmscale.md.lammps_units import si_to_lammps
 
 AL = ParticleMaterial(ElasticPlastic(70e9, 0.3, name="Al"), 2700.0)
 DX = 5e-8     # the example spec's: a 0.12 um indent is 2.4 spacings deep
@@ -91,14 +91,14 @@ def test_cube_corner_area():
 
 def test_pyramid_weights_load_and_reach():
     text = input_text(spec())
-    K = from_si(K_FACTOR * AL.material.plane_strain_modulus, "pressure", "particle")
+    K = si_to_lammps(K_FACTOR * AL.material.plane_strain_modulus, "pressure", "particle")
     kw = re.search(r"variable kw atom (\S+)\*\((.*)\)", text)
     assert float(kw.group(1)) == pytest.approx(K, rel=1e-9)
     assert kw.group(2) == "1-0.5*gmask(plane)"      # the symmetry-plane particles: half a cell
     assert "variable load equal -2*c_pyramid_z" in text      # the mirrored half doubles it
     # every particle the tip can reach at full depth is evaluated: the edge radius plus 2 dx
     reach = float(re.search(r"region near cylinder z 0 0 (\S+)", text).group(1))
-    assert reach == pytest.approx(from_si(2 * 1.2e-7 * math.tan(math.radians(65.27)) + 2 * DX,
+    assert reach == pytest.approx(si_to_lammps(2 * 1.2e-7 * math.tan(math.radians(65.27)) + 2 * DX,
                                           "length", "particle"), rel=1e-9)
     full = input_text(spec(grid=Grid(DX, 1.2e-6, 1.2e-6, quarter=False)))
     assert "variable kw atom" in full and "gmask" not in full
@@ -110,7 +110,7 @@ def test_sphero_conical_sphere_and_frustum_are_tangent():
     text = input_text(spec(f"sphero-conical:{R}:{theta}", grid=Grid(1e-7, 2e-6, 2e-6),
                            depth=3e-7))
     check_input(text)
-    Ru = from_si(R, "length", "particle")
+    Ru = si_to_lammps(R, "length", "particle")
     sphere = re.search(r"fix ind_interior interior indent \S+ sphere 0 0 v_zc (\S+)", text)
     assert float(sphere.group(1)) == pytest.approx(Ru, rel=1e-9)
     cone = re.search(r"fix frustum_interior interior indent \S+ cone z 0 0 (\S+) (\S+) "

@@ -1,7 +1,7 @@
 """LAMMPS units to SI and back: the one place where LAMMPS units are converted.
 
-Every quantity that crosses the boundary of ``filmscale.md`` goes through `to_si` or
-`from_si` with the name of its dimension and of the unit system; nothing else in the package
+Every quantity that crosses the boundary of ``filmscale.md`` goes through `lammps_to_si` or
+`si_to_lammps` with the name of its dimension and of the unit system; nothing else in the package
 multiplies by a unit factor.
 
 Two systems are used:
@@ -76,13 +76,13 @@ def _factor(dimension: str, system: str) -> float:
                        f"known: {', '.join(table)}") from None
 
 
-def to_si(value, dimension: str, system: str = "metal"):
+def lammps_to_si(value, dimension: str, system: str = "metal"):
     """A value (scalar or array) in the given LAMMPS unit system, in SI."""
     f = _factor(dimension, system)
     return value * f if np.ndim(value) == 0 else np.asarray(value, dtype=float) * f
 
 
-def from_si(value, dimension: str, system: str = "metal"):
+def si_to_lammps(value, dimension: str, system: str = "metal"):
     """An SI value (scalar or array) in the given LAMMPS unit system."""
     f = _factor(dimension, system)
     return value / f if np.ndim(value) == 0 else np.asarray(value, dtype=float) / f

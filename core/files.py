@@ -255,6 +255,11 @@ def open_regular(path, what: str):
     with O_NONBLOCK and checked again with fstat on the open descriptor, so a name replaced
     by a pipe or a device after the check is refused, not waited on (on a regular file
     O_NONBLOCK changes nothing). InputError as `check_regular_file`."""
+    return _open_regular(path, what)[0]
+
+
+def _open_regular(path, what: str):
+    """`open_regular`'s file and the fstat of its open descriptor (its size, read once)."""
     check_regular_file(path, what)
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
@@ -262,10 +267,10 @@ def open_regular(path, what: str):
     except (OSError, ValueError) as err:
         raise _unreadable(what, path, err) from None
     try:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            raise _not_regular(what, path, mode)
-        return os.fdopen(fd, "rb")
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise _not_regular(what, path, info.st_mode)
+        return os.fdopen(fd, "rb"), info
     except BaseException:
         os.close(fd)
         raise
@@ -277,8 +282,9 @@ def read_bytes(path, what: str, limit: int | None = None) -> bytes:
     ``what`` and the file when it is larger (refused from its size before reading, and at
     limit + 1 bytes should it grow)."""
     limit = input_limit() if limit is None else limit
-    with open_regular(path, what) as f:
-        if os.fstat(f.fileno()).st_size > limit:
+    f, info = _open_regular(path, what)
+    with f:
+        if info.st_size > limit:
             raise _too_large(what, path, limit)
         try:
             data = f.read(limit + 1)

@@ -235,6 +235,11 @@ class CurveInputs:
         return out
 
 
+def _source(curve) -> str:
+    """What made a curve (``meta["source"]``; "" for a measured curve that says nothing)."""
+    return str(curve.meta.get("source", ""))
+
+
 def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
                  thickness: float | None, substrate, contact_zero: str | None = None
                  ) -> CurveInputs:
@@ -244,7 +249,7 @@ def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
     contact zero is held fixed, as in the scene pipeline), else today's defaults for measured
     curves (diamond, a half-space)."""
     curves = [c for _, cs in files for c in cs]
-    simulated = [str(c.meta.get("source", "")).startswith(SIMULATED_SOURCE) for c in curves]
+    simulated = [_source(c).startswith(SIMULATED_SOURCE) for c in curves]
     records = {path: record_film(path) for path, _ in files}
     notes = []
     if tip_material is not None:
@@ -259,14 +264,14 @@ def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
         tip, tip_from = "diamond", "default"
     zero, zero_from = contact_zero, "option"
     if contact_zero is None and curves and all(
-            str(c.meta.get("source", "")).startswith(PARTICLE_SOURCE) for c in curves):
+            _source(c).startswith(PARTICLE_SOURCE) for c in curves):
         zero, zero_from = "fixed", "record"       # as the scene's particle sources
     elif contact_zero is None:
         zero_from = "default"           # `calibrate`'s: fit for a rigid sphere, else fixed
     film = [r for r in records.values() if r is not None]
     if not film:
         for path, cs in files:
-            if any(str(c.meta.get("source", "")).startswith(SIMULATED_SOURCE) for c in cs):
+            if any(_source(c).startswith(SIMULATED_SOURCE) for c in cs):
                 notes.append(f"{path} holds simulated curves but no run record: a "
                              "half-space unless --film-thickness and --substrate say "
                              "otherwise")

@@ -83,6 +83,16 @@ def _load_unit(group) -> tuple[str, float]:
                  if largest * f < 1e3), ("N", 1.0))
 
 
+def _left_out(h, P, excluded: str) -> tuple[int, int] | None:
+    """(first, last) index of the range a cross-scale check left out of a curve: the whole
+    pop-in range ("pop-in": the loading up to the bottom of the drop) or its burst ("burst":
+    after the peak); None when nothing was left out or the curve has no pop-in."""
+    span = pop_in_range(h, P) if excluded else None
+    if span is None:
+        return None
+    return (0 if excluded == "pop-in" else span[0] + 1), span[1]
+
+
 def _draw_calibration(ax, group, title: str):
     """Each calibration curve (small dots), the points each parameter was fitted on (marked
     by role), the calibrated forward model on the fit's own contact zero (line), and the
@@ -104,10 +114,9 @@ def _draw_calibration(ax, group, title: str):
         roles = group[key]["fitted_for"][()] if "fitted_for" in group[key] else None
         x, P, F = h * 1e9, P * factor, F * factor
         color = f"C{i % 10}"
-        span = pop_in_range(h, P) if excluded else None
+        span = _left_out(h, P, excluded)
         if span is not None:
-            start = 0 if excluded == "pop-in" else span[0] + 1
-            ax.axvspan(x[start], x[span[1]], color=color, alpha=0.12, lw=0,
+            ax.axvspan(x[span[0]], x[span[1]], color=color, alpha=0.12, lw=0,
                        label=label(f"left out of the check: the {excluded}"))
         ax.plot(x, P, ".", ms=2, color=color, alpha=0.6, label=label("calibration curve"))
         if roles is not None:
@@ -133,10 +142,10 @@ def _draw_residuals(ax, group):
     check = _checks(group)[0]
     for i, key in enumerate(_curve_keys(group)):
         h, P, F = (group[key][k][()] for k in ("h", "P", "P_model"))
-        span = pop_in_range(h, P) if check.excluded else None
+        span = _left_out(h, P, check.excluded)
         if span is not None:
-            start = 0 if check.excluded == "pop-in" else span[0] + 1
-            ax.axvspan(h[start] * 1e9, h[span[1]] * 1e9, color=f"C{i % 10}", alpha=0.12, lw=0)
+            ax.axvspan(h[span[0]] * 1e9, h[span[1]] * 1e9, color=f"C{i % 10}", alpha=0.12,
+                       lw=0)
         ax.plot(h * 1e9, 100 * (F - P) / P.max(), ".", ms=3, color=f"C{i % 10}")
     for sign in (-1, 1):
         ax.axhline(100 * sign * check.tolerance, color="0.4", ls="--", lw=1,
@@ -178,6 +187,7 @@ def _draw_profile(ax, group, radius):
     ax.semilogx(d, group["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
     ax.semilogx(d, group["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
     ax.set_xlabel("approach delta (nm)")
+    ax.set_ylabel("modulus, strength (GPa)")
     ax.set_title(f"effective properties, sphere R = {radius * 1e6:.3g} um (Gao weighting)",
                  fontsize=9)
     ax.legend(fontsize=8)
@@ -305,12 +315,6 @@ def _bounded_quantity(parameter: dict) -> str:
 def write_figure(result, out) -> Path:
     """`scene_figure` of a scene result, saved as PNG to ``out``."""
     return save_figure(scene_figure(result), out)
-
-
-def _bounded(parameter: dict, scale: float = 1.0, fmt: str = ".4g") -> str:
-    """A calibrated value for people: ">= value" when the data bound it only from below."""
-    text = f"{parameter['value'] * scale:{fmt}}"
-    return f">= {text}" if parameter.get("lower_bound") else text
 
 
 def _number(value, fmt: str, unit: str = "") -> str:

@@ -349,6 +349,8 @@ def _digest_in(folder: int, name: str, path: Path) -> str:
 
 
 def stream_digest(fd: int, limit: int | None = None, name: str = "") -> str:
+    """The sha256 of what is left to read of the open descriptor ``fd``, read in `_CHUNK`s;
+    _Damaged naming ``name`` when more than ``limit`` bytes come (None: no limit)."""
     digest, size = hashlib.sha256(), 0
     while chunk := os.read(fd, _CHUNK):
         size += len(chunk)

@@ -87,11 +87,14 @@ _LAMBDA_MAX = 300.0
 
 
 def _shear_ratio(film: ElasticPlastic, substrate: ElasticPlastic) -> float:
-    return (film.E / (1 + film.nu)) / (substrate.E / (1 + substrate.nu))
+    """alpha = mu_f / mu_s, the film's shear modulus over the substrate's."""
+    return film.shear_modulus / substrate.shear_modulus
 
 
 def _compliance(x, ratio: float, nu_f: float, nu_s: float):
-    """C(x = k t) for the shear-modulus ratio mu_f/mu_s and the Poisson ratios."""
+    """C(x = k t) (dimensionless; x = k t, k the wavenumber in 1/m, t the film thickness in
+    m) for the shear-modulus ratio mu_f/mu_s and the Poisson ratios: the bonded-layer kernel
+    of the module docstring (Perriot & Barthel 2004, J. Mater. Res. 19, 600)."""
     kf, ks = 3 - 4 * nu_f, 3 - 4 * nu_s
     a = (ratio * ks - kf) / (ratio * ks + 1)
     b = (ratio - 1) / (ratio + kf)

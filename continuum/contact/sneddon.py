@@ -132,6 +132,11 @@ def sneddon_area(delta, R):
     return np.pi * np.square(sneddon_contact_radius(delta, R))
 
 
+def _from_base(name: str) -> property:
+    """A read-only property that is ``self.base``'s attribute ``name``."""
+    return property(lambda self: getattr(self.base, name), doc=f"``base.{name}``")
+
+
 @dataclass(frozen=True)
 class SneddonElastic(ContactLaw):
     """``base`` with Sneddon's exact rigid sphere as its elastic branch.
@@ -159,29 +164,13 @@ class SneddonElastic(ContactLaw):
     def name(self) -> str:
         return self.base.name + "+sneddon"
 
-    @property
-    def thresholds(self) -> tuple[float, ...]:
-        return self.base.thresholds
-
-    @property
-    def regime_names(self) -> tuple[str, ...]:
-        return self.base.regime_names
-
-    @property
-    def continuous(self) -> bool:
-        return self.base.continuous
-
-    @property
-    def hardness_factor(self) -> float:
-        return self.base.hardness_factor
-
-    @property
-    def default_unloading(self) -> str:
-        return self.base.default_unloading
-
-    @property
-    def reversible_branches(self) -> int:
-        return self.base.reversible_branches
+    # severity, thresholds, regimes, hardness factor and unloading are the base law's
+    thresholds = _from_base("thresholds")
+    regime_names = _from_base("regime_names")
+    continuous = _from_base("continuous")
+    hardness_factor = _from_base("hardness_factor")
+    default_unloading = _from_base("default_unloading")
+    reversible_branches = _from_base("reversible_branches")
 
     def critical_approach(self, R, E_star, sigma_y, nu):
         return self.base.critical_approach(R, E_star, sigma_y, nu)

@@ -111,6 +111,15 @@ def contact_stiffness(curve: LoadDisplacementCurve, frame_stiffness_correction: 
     return None
 
 
+def loading_points(curve: LoadDisplacementCurve) -> np.ndarray:
+    """Boolean mask of the points of ``curve``'s first loading (`LoadDisplacementCurve.loading`)
+    labelled load."""
+    end = curve.loading().stop
+    load = np.zeros(curve.h.size, dtype=bool)
+    load[:end] = curve.segment[:end] == LOAD
+    return load
+
+
 def _failed(message, tip, eps, beta, nu, depth_range=(math.nan, math.nan)) -> CSMResult:
     empty = np.empty(0)
     nan = math.nan
@@ -171,9 +180,7 @@ def csm_analysis(curve: LoadDisplacementCurve, tip: Tip | str, *, depth_range=No
                 raise InputError(f"harmonic_peaks needs the {name} channel")
         h = h + math.sqrt(2.0) * np.nan_to_num(c.channels["h_harmonic"])
         P = P + math.sqrt(2.0) * np.nan_to_num(c.channels["P_harmonic"])
-    end = c.loading().stop
-    load = np.zeros(h.size, dtype=bool)
-    load[:end] = c.segment[:end] == LOAD
+    load = loading_points(c)
     with np.errstate(divide="ignore", invalid="ignore"):
         sel = load & np.isfinite(S) & (S > 0) & (h > 0) & (P > 0)
         h_c = h[sel] - eps * P[sel] / S[sel]

@@ -102,12 +102,8 @@ def model_modulus(model: str, a, h_c, *, thickness: float, film: ElasticPlastic,
     t = float(thickness)
     ef, es = film.plane_strain_modulus, substrate.plane_strain_modulus
     if model == "exact":
-        from filmscale.continuum.contact import coated
-        if not hasattr(coated, "apparent_modulus"):
-            raise InputError("film model 'exact' needs the layered solution "
-                             "(filmscale.continuum.contact.coated.apparent_modulus), which this "
-                             "installation lacks")
-        flat = np.array([coated.apparent_modulus(float(r), t, film, substrate)
+        from filmscale.continuum.contact.coated import apparent_modulus
+        flat = np.array([apparent_modulus(float(r), t, film, substrate)
                          for r in a.ravel()], dtype=float)
         return flat.reshape(a.shape)
     t_eff = np.maximum(t - h_c, 0.0) if model == "saha-nix" else np.full(a.shape, t)
@@ -118,7 +114,7 @@ def model_modulus(model: str, a, h_c, *, thickness: float, film: ElasticPlastic,
         return 1.0 / ((1.0 - w) / ef + w / es)
     # hay-crawford
     i0 = np.where(x > 0, gao_i0(np.where(x > 0, x, 1.0), nu_a), 0.0)
-    mu_f, mu_s = film.E / (2.0 * (1.0 + film.nu)), substrate.E / (2.0 * (1.0 + substrate.nu))
+    mu_f, mu_s = film.shear_modulus, substrate.shear_modulus
     mu_a = 1.0 / ((1.0 - i0) / (mu_s + HAY_CRAWFORD_F * i0 * mu_f) + i0 / mu_f)
     return 2.0 * mu_a / (1.0 - nu_a)
 

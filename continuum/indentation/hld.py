@@ -28,7 +28,7 @@ import numpy as np
 from filmscale.core.errors import InputError
 from filmscale.core.files import excerpt, read_bytes, shown
 
-from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
+from .curves import HOLD, LOAD, SEGMENTS_FROM_FILE, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
 from .vendors import micro_sign as _micro
 from .vendors import si_unit
@@ -319,8 +319,8 @@ def read_hld(path) -> dict[str, LoadDisplacementCurve]:
         "extra_columns": [n for k, n in enumerate(names) if k not in (i_h, i_P, i_t)],
     }
     if labels is not None:
-        # labels the load function gave, to be kept as they are (curves.SEGMENTS_FROM_FILE)
-        meta["segment_source"] = "file"
+        # labels the load function gave, to be kept as they are
+        meta["segment_source"] = SEGMENTS_FROM_FILE
     try:
         curve = LoadDisplacementCurve(h, P, t, labels, meta=meta)
     except InputError as err:

@@ -12,6 +12,7 @@ from filmscale.core.errors import InputError
 
 from .curves import HOLD, LOAD, UNLOAD, LoadDisplacementCurve
 
+
 def synthetic_curve(E_r, H, tip, *, h_c, m=1.5, epsilon=None, beta=None, n_load=200,
                     n_hold=50, n_unload=200, loading_time=10.0, hold_time=5.0,
                     unloading_time=10.0, noise=0.0, seed=None) -> LoadDisplacementCurve:
@@ -20,7 +21,8 @@ def synthetic_curve(E_r, H, tip, *, h_c, m=1.5, epsilon=None, beta=None, n_load=
     Loading P = P_max (h / h_max)^2 (Kick's law), a hold at P_max, unloading
     P = B (h - h_f)^m with B and h_f set so that H = P_max / A(h_c) and
     E_r = sqrt(pi) S / (2 beta sqrt(A(h_c))) with S = m P_max / (h_max - h_f),
-    h_max = h_c + eps P_max / S.
+    h_max = h_c + eps P_max / S: the relations of Oliver & Pharr, J. Mater. Res. 7 (1992)
+    1564, inverted. Depths in m, loads in N, stiffness in N/m, time in s.
 
     Parameters
     ----------

@@ -41,7 +41,7 @@ from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.noise import noise_sigma
 from filmscale.core.quantities import to_si
 
-from .curves import LOAD, LoadDisplacementCurve
+from .curves import LoadDisplacementCurve
 from .cycles import cycle_curves
 from .io import UNITS
 from .oliver_pharr import oliver_pharr
@@ -301,7 +301,7 @@ class _Indents:
             return self._unframed
         out = []
         for part in self.parts:
-            result = oliver_pharr(part.frame_corrected(C_f) if C_f else part, self.tip,
+            result = oliver_pharr(part.frame_corrected(C_f), self.tip,
                                   window=self.window, check=False)
             if not (result.ok and result.S > 0 and result.h_c > 0):
                 return None
@@ -312,14 +312,12 @@ class _Indents:
 def _csm_points(curve: LoadDisplacementCurve):
     """(h, P, S) of the loading points of a CSM test deep enough to calibrate on
     (`CSM_MIN_DEPTH`); None when there are none."""
-    from .csm import contact_stiffness
+    from .csm import contact_stiffness, loading_points
     c = curve.finite()
     S = contact_stiffness(c)
     if S is None:
         return None
-    end = c.loading().stop
-    load = np.zeros(c.h.size, dtype=bool)
-    load[:end] = c.segment[:end] == LOAD
+    load = loading_points(c)
     h_min = max(CSM_MIN_DEPTH[0] * float(np.max(c.h)), CSM_MIN_DEPTH[1])
     sel = load & np.isfinite(S) & (S > 0) & (c.P > 0) & (c.h >= h_min)
     return (c.h[sel], c.P[sel], S[sel]) if sel.any() else None

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.core.errors import InputError
-from filmscale.core.files import (check_regular_file, input_limit, open_regular, read_bytes,
+from filmscale.core.files import (check_regular_file, open_regular, read_bytes,
                                   read_toml, shown)
 
 from .curves import LoadDisplacementCurve
@@ -298,15 +298,6 @@ def _curve(frame, picked, source, meta, segment=None) -> LoadDisplacementCurve:
 
 # ---- delimited text ----------------------------------------------------------------------
 
-def _check_size(path: Path) -> None:
-    """A regular file (`check_regular_file`: never a pipe or a device) within the input
-    size limit, else InputError."""
-    size = check_regular_file(path, WHAT).st_size
-    if size > input_limit():
-        raise InputError(f"{shown(path)} is larger than {input_limit()} bytes, the input size "
-                         "limit")
-
-
 def _decode(path: Path, encoding: str | None) -> str:
     data = read_bytes(path, WHAT)
     for enc in ([encoding] if encoding else ["utf-8-sig", "latin-1"]):
@@ -568,8 +559,8 @@ def _hld_layout(path: Path) -> bool:
     """True for the layout TriboScan writes to ``.hld``: a ``File Version: Hysitron`` header
     and data blocks each opened by a ``... Data Points: N`` line (a text export with one
     header line is read as delimited text). Only the header is read: its first block opens
-    within the first few kilobytes."""
-    _check_size(path)
+    within the first few kilobytes. The size limit is the reader's that follows
+    (`core.files.read_bytes`); `read_instrument` has checked that the file is regular."""
     try:
         with open_regular(path, WHAT) as f:
             head = f.read(HLD_HEAD_BYTES)

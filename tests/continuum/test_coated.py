@@ -217,6 +217,9 @@ def test_sphere_stiffness_is_the_flat_punch(name, lam):
 
 
 def test_apparent_modulus_between_film_and_substrate():
+    """S/(2a) lies between E'_f and E'_s and falls with a/t (physical bounds, exact); within
+    0.5 % of E'_f at a/t = 1e-3 and 5 % of E'_s at a/t = 100, margins wider than the film's
+    first-order share ~ (t/a) or (a/t) at those radii (docs/layered-contact.md)."""
     film = FILMS["5.7"]
     values = [apparent_modulus(lam * 1e-7, 1e-7, film, SUB) for lam in (1e-3, 1.0, 100.0)]
     assert film.plane_strain_modulus > values[0] > values[1] > values[2] \
@@ -228,6 +231,9 @@ def test_apparent_modulus_between_film_and_substrate():
 # --- the load at given approaches, inputs --------------------------------------------------------
 
 def test_sphere_load_at_given_approach():
+    """The load at a given approach equals the load of `coated_contact` at the radius whose
+    approach it is (the inverse problem against the forward one); rtol 1e-9: the Brent root
+    in log a is to 1e-11, and both sides use the same converged (cached) solution."""
     film, t = ElasticPlastic(200e9, 0.3), 0.375e-6
     radii = np.array([0.1, 0.25, 0.4]) * 1e-6
     delta, P = np.array([coated_contact(a, R, t, film, SUB) for a in radii]).T

@@ -58,6 +58,9 @@ def test_force_and_radius_match_the_parametric_solution(ratio):
 
 
 def test_vectorised_and_limits():
+    """Broadcast shapes and the limits, against independent references: the parametric form
+    delta(a) (`parametric`), a -> R and P -> E* R (2 delta - R) for delta >> R. Tolerances
+    1e-12-1e-15: the Newton solve runs to machine precision, so only rounding remains."""
     delta = np.array([[0.0, 1e-300], [0.2, 40.0]]) * R
     radii = np.array([R, 2 * R])
     a = sneddon_contact_radius(delta, radii)

@@ -95,29 +95,37 @@ def test_a_comma_separated_table_of_thousands_from_its_first_row_is_refused(tmp_
         read_curves(path, ReadOptions(format="delimited"))
 
 
-def test_a_thousands_separator_in_a_decimal_comma_table_is_refused_naming_line_and_column(
-        tmp_path):
+def _comma_table_with_a_thousands_number(tmp_path):
     path = _write(tmp_path / "ap.csv", ";", lambda x: repr(x).replace(".", ","))
     lines = path.read_text().splitlines()
     lines[120] = lines[120].split(";")[0] + ";1,234.5;" + lines[120].split(";")[2]
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match=r"line 121, column 'Load \(uN\)' holds '1,234.5', "
-                                         r"which does not fit the number format of the rows "
-                                         r"above \(a decimal comma\): it holds thousands "
-                                         r"separators"):
-        read_curves(path, ReadOptions(format="delimited"))
+    return path
 
 
-def test_a_table_mixing_decimal_points_and_commas_is_refused(tmp_path):
+def _point_table_with_a_comma_row(tmp_path):
     path = _write(tmp_path / "mixed.txt", "\t", repr)
     lines = path.read_text().splitlines()
     lines[200] = lines[200].replace(".", ",")
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match=r"line 201, column 'Depth \(nm\)' holds '[0-9]+,[0-9]+"
-                                         r"', which does not fit the number format of the rows "
-                                         r"above \(a decimal point\): export the table with one "
-                                         r"decimal mark throughout"):
-        read_curves(path, ReadOptions(format="delimited"))
+    return path
+
+
+@pytest.mark.parametrize("table, message", [
+    # a thousands separator in a decimal comma table: refused naming line and column
+    (_comma_table_with_a_thousands_number,
+     r"line 121, column 'Load \(uN\)' holds '1,234.5', which does not fit the number format "
+     r"of the rows above \(a decimal comma\): it holds thousands separators"),
+    # a table mixing decimal points and commas
+    (_point_table_with_a_comma_row,
+     r"line 201, column 'Depth \(nm\)' holds '[0-9]+,[0-9]+', which does not fit the number "
+     r"format of the rows above \(a decimal point\): export the table with one decimal mark "
+     r"throughout"),
+], ids=["thousands_in_a_decimal_comma_table", "decimal_points_and_commas_mixed"])
+def test_a_number_out_of_the_table_format_is_refused_naming_line_and_column(tmp_path, table,
+                                                                              message):
+    with pytest.raises(InputError, match=message):
+        read_curves(table(tmp_path), ReadOptions(format="delimited"))
 
 
 def test_whole_thousands_after_decimal_points_are_thousands(tmp_path):

@@ -72,11 +72,11 @@ def test_elastic_data_bound_sigma_y_from_below_only():
     assert cal.sigma_y.lower_bound and not cal.E.lower_bound
     assert cal.sigma_y.text().startswith(f">= {cal.sigma_y.value / 1e6:.4g} MPa")
     from filmscale.continuum.calibration.result import Calibration
-    from filmscale.workflows.report import _bounded
+    from filmscale.core.quantities import eng
+    from filmscale.workflows.report import _bounded_quantity
     back = Calibration.from_dict(cal.to_dict())
     assert back.sigma_y.lower_bound
-    assert _bounded(cal.to_dict()["sigma_y"], 1e-9, ".2g") == \
-        f">= {cal.sigma_y.value * 1e-9:.2g}"
+    assert _bounded_quantity(cal.to_dict()["sigma_y"]) == f">= {eng(cal.sigma_y.value, 'Pa')}"
 
 
 def synthetic_sharp_curve(E, nu, sy, n, h_m, tip="berkovich", points=200):

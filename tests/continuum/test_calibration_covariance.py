@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from filmscale.continuum.calibration.sphere import calibrate_sphere
-from tests.continuum import test_elastic_segment as te
-from tests.workflows import test_calibration as tc
+from tests.helpers import curves as tc
+from tests.helpers import md_like_curves as te
 
 DRAWS = 60
 #: reported (linearised) against Monte Carlo correlation: the Monte Carlo's own sampling error

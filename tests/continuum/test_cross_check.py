@@ -8,7 +8,7 @@ import pytest
 
 from filmscale.continuum.calibration import calibrate_sphere
 from filmscale.core.errors import InputError
-from tests.workflows import test_calibration as tc
+from tests.helpers import curves as tc
 
 
 def test_default_tolerance_is_twice_the_curves_own_noise():

@@ -11,7 +11,7 @@ import pytest
 from filmscale.continuum.calibration.ensemble import calibrate_ensemble, ensemble_mean
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.core.errors import InputError
-from tests.workflows import test_calibration as tc
+from tests.helpers import curves as tc
 
 DEPTHS = (5.0, 5.5, 6.0, 6.5, 7.0)      # pop-in depths of the members, first-yield approaches
 

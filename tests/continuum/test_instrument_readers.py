@@ -12,8 +12,8 @@ from filmscale.continuum.indentation.tips import berkovich
 from filmscale.continuum.indentation.vendors import (ReadOptions, parse_columns,
                                                      read_options_file)
 from filmscale.core.errors import InputError
-from tests.continuum.instrument_files import (write_anton_paar, write_g200, write_hld,
-                                              write_native, write_triboscan)
+from tests.helpers.instruments import (write_anton_paar, write_g200, write_hld, write_native,
+                                       write_triboscan)
 
 # fused silica against diamond (Oliver & Pharr 1992): E_r = 69.6 GPa; H = 9 GPa
 E_R, H = 69.6e9, 9.0e9

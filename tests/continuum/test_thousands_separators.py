@@ -15,7 +15,7 @@ from filmscale.continuum.indentation.tips import berkovich
 from filmscale.continuum.indentation.vendors import ReadOptions, read_options_file
 from filmscale.core.errors import InputError
 from filmscale.workflows.cli import main
-from tests.continuum.instrument_files import columns
+from tests.helpers.instruments import columns
 
 E_R, H = 69.6e9, 9.0e9
 # the load reaches 4960 uN: the rows from the 91st on hold a thousands separator

@@ -10,24 +10,11 @@ from filmscale.continuum.indentation.io import read_area_function, read_frame_co
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
 from filmscale.continuum.indentation.tip_calibration import (REFERENCES, calibrate_tip,
                                                              parse_reference)
-from filmscale.continuum.indentation.tips import FUSED_SILICA, PolynomialArea, berkovich
+from filmscale.continuum.indentation.tips import PolynomialArea, berkovich
 from filmscale.continuum.materials import DIAMOND
 from filmscale.core.errors import InputError
-
-NM = 1e-9
-#: a blunted Berkovich: A = 24.494 h^2 + 800 nm h + 4000 nm^1.5 h^0.5 (h in nm), 47 % above
-#: the ideal area at 20 nm and 9 % at 360 nm
-TRUE_AREA = PolynomialArea((berkovich().area_coefficient, 800 * NM, 4000 * NM**1.5),
-                           berkovich())
-C_F = 0.3e-6            #: frame compliance, m/N (0.3 nm/mN, a typical G200 frame)
-E_R_SILICA = FUSED_SILICA.reduced_modulus(DIAMOND)
-
-
-def reference_curves(noise=0.0):
-    """Three multi-cycle indents on fused silica (H = 9 GPa), h_c 20 to 360 nm."""
-    return [synthetic_multicycle(E_R_SILICA, 9e9, TRUE_AREA, frame_compliance=C_F, noise=noise,
-                                 seed=k, h_c=np.geomspace(start, 8 * start, 4))
-            for k, start in enumerate((20 * NM, 30 * NM, 45 * NM))]
+from tests.helpers.tip_references import (C_F, E_R_SILICA, NM, TRUE_AREA, reference_curves,
+                                          shifted)
 
 
 def test_reference_constants_are_oliver_pharr_1992():
@@ -134,13 +121,6 @@ def test_cycles_of_a_single_and_a_decreasing_load_test():
 
 
 # ---- the quality gate -------------------------------------------------------------------
-
-def shifted(curves, offset):
-    """The curves with every depth larger by ``offset``: an instrument's surface-find that
-    fired ``offset`` early, the zero not re-found."""
-    return [type(c)(c.h + offset, c.P, c.t, c.segment, indenter=c.indenter, meta=c.meta)
-            for c in curves]
-
 
 def test_gate_passes_clean_reference_indents():
     cal = calibrate_tip(reference_curves(noise=5e-4), "fused-silica", terms=3)

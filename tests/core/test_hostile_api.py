@@ -41,7 +41,7 @@ from filmscale.md.site import load_site
 from filmscale.workflows.scene import load_scene
 from filmscale.workflows.pipeline_scene import load_pipeline
 from filmscale.workflows.sweep import load_sweep
-from tests.workflows.test_scene import MINIMAL
+from tests.helpers.scenes import MINIMAL
 
 SCENE = MINIMAL
 TABLE = "h [nm], P [uN]\n1, 2\n2, 5\n3, 9\n"

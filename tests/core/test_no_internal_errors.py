@@ -33,7 +33,7 @@ from filmscale.core.errors import InputError
 from filmscale.core.files import MAX_INPUT_BYTES_ENV
 from filmscale.workflows.scene import MAP_POINTS_MAX, load_scene, parse_scene
 from filmscale.workflows.pipeline_scene import load_pipeline
-from tests.workflows.test_scene import MINIMAL
+from tests.helpers.scenes import MINIMAL
 
 SCENE = MINIMAL
 LAYER = """

@@ -10,7 +10,7 @@ import pytest
 from filmscale.core.errors import InputError
 from filmscale.core.quantities import to_si
 from filmscale.workflows.cli import main
-from tests.workflows.test_cli import HERTZ_SCENE
+from tests.helpers.scenes import HERTZ_SCENE
 
 SCENE = HERTZ_SCENE.replace("radius = 10e-6", "radius = {radius}")
 

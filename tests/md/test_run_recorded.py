@@ -3,8 +3,6 @@ the recorded ci run, the analysis against the potential's published elastic cons
 HDF5 record, and an interrupted run resumed from its last restart file."""
 
 import json
-import shutil
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -17,42 +15,9 @@ from filmscale.md import run as md_run
 from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
 from filmscale.md.engine import parse_table
 from filmscale.md.spec import preset
+from tests.helpers.engines import RECORDED, RecordedEngine
 
-RECORDED = Path(__file__).parent / "recorded" / "ci"
 EV_PER_A = 1.602176634e-9     # N
-
-
-class RecordedEngine:
-    """Stands in for `run_input`: copies what LAMMPS wrote in the recorded ci run."""
-
-    def __init__(self, stop_after_step=None):
-        self.calls = []
-        self.stop_after_step = stop_after_step
-
-    def __call__(self, input_file, run_dir, options, *, log_name, progress=None):
-        run_dir = Path(run_dir)
-        self.calls.append((input_file, (run_dir / input_file).read_text()))
-        shutil.copy(RECORDED / "surface_z.txt", run_dir)
-        shutil.copytree(RECORDED / "dumps", run_dir / "dumps", dirs_exist_ok=True)
-        lines = (RECORDED / "indent.dat").read_text().splitlines()
-        header, rows = lines[0], lines[1:]
-        if input_file == "in.indent":
-            record = "indent.dat"
-            if self.stop_after_step is not None:
-                rows = [r for r in rows if int(r.split()[0]) <= self.stop_after_step]
-                (run_dir / "restart.600.bin").write_bytes(b"recorded")
-                (run_dir / record).write_text("\n".join([header, *rows]) + "\n")
-                raise KeyboardInterrupt
-        else:
-            record = "indent.1.dat"
-            # the resumed part: rows from its restart step on, loads shifted by 1 eV/A so
-            # that the merge can be told apart
-            rows = [" ".join(w if i != 4 else repr(float(w) + 1.0)
-                             for i, w in enumerate(r.split()))
-                    for r in rows if int(r.split()[0]) >= 600]
-        (run_dir / record).write_text("\n".join([header, *rows]) + "\n")
-        (run_dir / log_name).write_text((RECORDED / "log.in.indent").read_text())
-        return (RECORDED / "log.in.indent").read_text()
 
 
 def _recorded_table():

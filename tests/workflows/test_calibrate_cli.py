@@ -6,20 +6,12 @@ import json
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.io import write_curve_group
-from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
-from tests.continuum import test_calibration_layered as tl
-from tests.workflows import test_calibration as tc
+from tests.helpers import curves as tc
+from tests.helpers import film_curves as tl
+from tests.helpers.curves import write_curves
 
 KEYS = {"E", "E_std", "sigma_y", "sigma_y_std", "n", "cross_check_rms", "passed"}
-
-
-def _write(path, curves):
-    with atomic_h5(path) as f:
-        for i, c in enumerate(curves):
-            write_curve_group(f.create_group(f"c{i}"), c)
-    return str(path)
 
 
 def test_film_on_substrate_from_the_command_line(tmp_path, capsys):
@@ -27,7 +19,7 @@ def test_film_on_substrate_from_the_command_line(tmp_path, capsys):
     sigma_y within 10 % with the substrate stated; the half-space call attributes the
     substrate to the film and its cross-scale check fails at the default 10 %."""
     curves, sub = tl.film_curves(1 / 3, np.random.default_rng(1))
-    path = _write(tmp_path / "film.h5", curves)
+    path = write_curves(tmp_path / "film.h5", curves)
     substrate = f"{sub.E!r},{sub.nu!r},{sub.sigma_y!r}"
     assert main(["calibrate", path, "--tip-material", "rigid", "--nu", "0.3",
                  "--film-thickness", "50e-9", "--substrate", substrate, "--json"]) == 0
@@ -43,7 +35,7 @@ def test_film_on_substrate_from_the_command_line(tmp_path, capsys):
 def test_sharp_curves_give_n(tmp_path, capsys):
     """Dao's forward curve (Al 7075-like, n = 0.122) through the reverse analysis."""
     _, curve = tc.synthetic_sharp_curve(70.1e9, 0.33, 0.5e9, 0.122, 1e-6)
-    path = _write(tmp_path / "berk.h5", [curve])
+    path = write_curves(tmp_path / "berk.h5", [curve])
     assert main(["calibrate", path, "--nu", "0.33", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["route"] == "sharp" and out["E"] == pytest.approx(70.1e9, rel=0.05)
@@ -59,7 +51,7 @@ def test_sharp_curves_give_n(tmp_path, capsys):
 ])
 def test_bad_calls_exit_2_with_one_line(tmp_path, capsys, args, message):
     _, curve = tc.synthetic_sharp_curve(70.1e9, 0.33, 0.5e9, 0.122, 1e-6)
-    path = _write(tmp_path / "berk.h5", [curve])
+    path = write_curves(tmp_path / "berk.h5", [curve])
     assert main(["calibrate", path, *args]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
@@ -69,10 +61,10 @@ def test_contact_zero_fit_from_the_command_line(tmp_path, capsys):
     """An MD-like curve whose depths are 8 % of the pop-in depth off their zero: with
     --contact-zero fit, E within 3 % of the generating value; without it, more than 5 % off
     (the same oracle as tests/continuum/test_elastic_segment.py, through the CLI)."""
-    from tests.continuum import test_elastic_segment as te
+    from tests.helpers import md_like_curves as te
     dy = float(te.LAW.first_yield(te.R, te.E_STAR, te.SY, te.NU).approach)
     curve = te.md_like_curve(np.random.default_rng(5), offset=0.48 * dy)
-    path = _write(tmp_path / "md.h5", [curve])
+    path = write_curves(tmp_path / "md.h5", [curve])
     common = ["calibrate", path, "--tip-material", "rigid", "--nu", str(te.NU), "--json"]
     assert main([*common, "--contact-zero", "fit"]) == 0
     assert json.loads(capsys.readouterr().out)["E"] == pytest.approx(te.E, rel=0.03)

@@ -22,7 +22,7 @@ from filmscale.md import run as md_run
 from filmscale.md.analysis import analyze_indentation
 from filmscale.md.spec import PRESETS, preset
 from filmscale.workflows.cli import main
-from tests.md.test_run_recorded import RecordedEngine
+from tests.helpers.engines import RecordedEngine
 
 TIP_NOTE = "filmscale: tip material: rigid (from the record)"
 

@@ -6,22 +6,8 @@ import pytest
 
 from filmscale.continuum.calibration.sharp import calibrate_sharp
 from filmscale.continuum.calibration.sphere import calibrate_sphere
-from filmscale.continuum.contact.laws import contact_law
-from filmscale.continuum.indentation.curves import LoadDisplacementCurve
-from filmscale.continuum.indentation.reverse.dao import dao_forward
-
-E, NU, SY = 70e9, 0.3, 0.3e9
-E_STAR = E / (1 - NU**2)
-R = 5e-6
-LAW = contact_law("komvopoulos-ye-continuous")
-
-
-def sphere_curve(h_max, noise, rng, R=R, points=80):
-    h = np.linspace(h_max / points, h_max, points)
-    P = LAW.contact(h, R, E_STAR, SY, NU).force
-    P = P + rng.normal(0.0, noise * P.max(), P.size)
-    return LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int),
-                                 indenter=f"sphere:{R * 1e6:g}um")
+from tests.helpers.curves import (E, E_STAR, LAW, NU, SY, R, pop_in_curve, sized_curves,
+                                  sphere_curve, synthetic_sharp_curve)
 
 
 def test_sphere_recovers_E_and_sigma_y_within_their_uncertainty():
@@ -79,25 +65,6 @@ def test_elastic_data_bound_sigma_y_from_below_only():
     assert _bounded_quantity(cal.to_dict()["sigma_y"]) == f">= {eng(cal.sigma_y.value, 'Pa')}"
 
 
-def synthetic_sharp_curve(E, nu, sy, n, h_m, tip="berkovich", points=200):
-    """Loading P = C h^2 and a power-law unloading P = B (h - h_f)^m with the forward
-    slope and work ratio: S = m P_m/(h_m - h_f) and W_e = P_m (h_m - h_f)/(m + 1) give
-    m/(m + 1) = S W_e / P_m^2."""
-    f = dao_forward(E, nu, sy, n, h_m, tip=tip)
-    W_t = f.C * h_m**3 / 3
-    W_e = (1 - f.WpWt) * W_t
-    k = f.dPdh * W_e / f.P_m**2
-    m = k / (1 - k)
-    span = (m + 1) * W_e / f.P_m
-    h_load = np.linspace(h_m / points, h_m, points)
-    h_unl = np.linspace(h_m, h_m - span, points)[1:]
-    P_unl = f.P_m * ((h_unl - (h_m - span)) / span)**m
-    h = np.concatenate([h_load, h_unl])
-    P = np.concatenate([f.C * h_load**2, P_unl])
-    seg = np.concatenate([np.zeros(points, int), np.full(points - 1, 2)])
-    return f, LoadDisplacementCurve(h, P, segment=seg, indenter=tip)
-
-
 def test_sharp_round_trip_of_dao_forward():
     """Al 7075-T651 (docs/physics.md round-trip oracle): the curve built from Dao's forward
     functions is reversed to E within 3 %, sigma_y within 10 % and n within 0.03 (the
@@ -111,19 +78,6 @@ def test_sharp_round_trip_of_dao_forward():
     assert abs(cal.E.value - 70.1e9) < 3 * cal.E.std
     assert abs(cal.sigma_y.value - 0.5e9) < 3 * cal.sigma_y.std
     assert cal.route == "sharp" and cal.points == 1
-
-
-def pop_in_curve(rng, E_pristine, noise=0.005, points=200):
-    """An MD-like displacement-controlled loading: Hertz with ``E_pristine`` (the defect-free
-    crystal) up to a pop-in at 6 first-yield approaches, where the load drops onto the
-    elastic-plastic law (E, SY) and follows it to 15 approaches."""
-    dy = float(LAW.first_yield(R, E_STAR, SY, NU).approach)
-    h = np.linspace(15 * dy / points, 15 * dy, points)
-    hertz = 4 / 3 * E_pristine / (1 - NU**2) * np.sqrt(R) * h**1.5
-    P = np.where(h <= 6 * dy, hertz, LAW.contact(h, R, E_STAR, SY, NU).force)
-    P = P + rng.normal(0.0, noise * P.max(), P.size)
-    return LoadDisplacementCurve(h, P, segment=np.zeros(h.size, int),
-                                 indenter=f"sphere:{R * 1e6:g}um")
 
 
 def test_pop_in_curve_separates_E_from_sigma_y():
@@ -149,12 +103,6 @@ def test_pop_in_E_is_the_pristine_modulus():
     rng = np.random.default_rng(12)
     cal = calibrate_sphere(pop_in_curve(rng, 1.2 * E), nu=NU)
     assert abs(cal.E.value - 1.2 * E) < 3 * cal.E.std
-
-
-def sized_curves(sy0=0.5e9, h_star=0.3e-6, depths=(0.1e-6, 0.2e-6, 0.5e-6, 1e-6, 3e-6)):
-    """Dao forward Berkovich curves of Al 7075 whose sigma_y follows Nix-Gao with depth."""
-    return [synthetic_sharp_curve(70.1e9, 0.33, sy0 * np.sqrt(1 + h_star / h), 0.122, h)[1]
-            for h in depths]
 
 
 def test_size_effect_recovers_the_nix_gao_length_of_sigma_y():

@@ -32,7 +32,7 @@ from filmscale.core.errors import InputError
 from filmscale.core.files import MAX_EXCERPT, check_regular_file, open_regular, read_text
 from filmscale.potentials import PotentialError, user_potential
 from filmscale.workflows.scene import load_scene
-from tests.workflows.test_scene import MINIMAL
+from tests.helpers.scenes import MINIMAL
 
 PROFILE_SCENE = MINIMAL + '\n[target.profile]\nfile = "profile.csv"\n'
 PROFILE = "h_c [nm], E_r [GPa], H [GPa]\n20, 150, 12\n80, 120, 9\n"

@@ -17,9 +17,9 @@ import pytest
 
 from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.tips import berkovich
-from tests.workflows.test_hostile_cli import SCENE, _main
-from tests.workflows.test_pipeline import _sphere_curve_file
-from tests.workflows.test_scene import MINIMAL
+from tests.helpers.cli import run_main
+from tests.helpers.curves import sphere_curve_file
+from tests.helpers.scenes import MINIMAL, SCENE
 
 #: numbers that lie: a decimal comma, juxtaposed numbers, two decimal points, thousands
 #: separators in three styles, a digit group mark, a number after the unit, broken exponents
@@ -144,7 +144,7 @@ def work(tmp_path, monkeypatch, bomb_bytes, capsys) -> Path:
     (d / "fifo_profile.toml").write_text(MINIMAL + '\n[target.profile]\nfile = "fifo.csv"\n')
     for name in ("fifo.toml", "fifo.csv", "fifo.xlsx", "fifo.h5"):
         os.mkfifo(d / name)
-    _sphere_curve_file(d)                                   # film.csv
+    sphere_curve_file(d)                                   # film.csv
     (d / "curves").mkdir()
     curve = synthetic_curve(140e9, 12e9, berkovich(), h_c=40e-9, m=1.4, noise=0.001, seed=1)
     np.savetxt(d / "curves" / "i.csv", np.column_stack([curve.h * 1e9, curve.P * 1e6]),
@@ -187,7 +187,7 @@ def test_hostile_input_round_two(case, work, capsys):
     previous = signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(20)
     try:
-        status, _, err = _main(argv if isinstance(argv, list) else argv.split(), capsys)
+        status, _, err = run_main(argv if isinstance(argv, list) else argv.split(), capsys)
     except _Blocked:
         pytest.fail(f"{name}: blocked for 20 s")
     finally:

@@ -15,9 +15,9 @@ from filmscale.continuum.indentation.tips import berkovich
 from filmscale.continuum.indentation.vendors import FORMATS
 from filmscale.workflows.cli import main
 from filmscale.workflows.indent_calibrate import FORMAT_CHOICES
-from tests.continuum.instrument_files import (write_anton_paar, write_g200, write_hld,
-                                              write_native, write_triboscan)
-from tests.continuum.test_tip_calibration import C_F, NM, TRUE_AREA, reference_curves
+from tests.helpers.instruments import (write_anton_paar, write_g200, write_hld, write_native,
+                                       write_triboscan)
+from tests.helpers.tip_references import C_F, NM, TRUE_AREA, reference_curves
 
 FILMSCALE = Path(sys.executable).with_name("filmscale")
 

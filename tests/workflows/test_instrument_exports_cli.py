@@ -24,9 +24,9 @@ from filmscale.continuum.indentation.io import read_area_function, write_curve_g
 from filmscale.continuum.indentation.tips import PolynomialArea, berkovich
 from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
-from tests.continuum.instrument_files import write_native
-from tests.continuum.test_tip_calibration import (C_F, E_R_SILICA, NM, TRUE_AREA,
-                                                  reference_curves, shifted)
+from tests.helpers.instruments import write_native
+from tests.helpers.tip_references import (C_F, E_R_SILICA, NM, TRUE_AREA, reference_curves,
+                                          shifted)
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "instruments"
 FS = DATA / "FS_Calibration.xls"

@@ -17,7 +17,7 @@ import h5py
 import numpy as np
 
 from filmscale.core.files import TEMP_MARK
-from tests.workflows.test_pipeline import BASE, _sphere_curve_file
+from tests.helpers.scenes import BASE
 
 SEED, KILLS = 31, 10
 FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
@@ -56,9 +56,8 @@ def _temporaries(folder: Path) -> list[Path]:
     return [p for p in folder.rglob("*") if TEMP_MARK in p.name]
 
 
-def test_sigkill_at_random_moments_then_rerun_gives_the_lone_run_result(tmp_path):
+def test_sigkill_at_random_moments_then_rerun_gives_the_lone_run_result(tmp_path, film_csv):
     (tmp_path / "scene.toml").write_text(SCENE)
-    _sphere_curve_file(tmp_path)
     start = time.monotonic()
     lone = subprocess.run(_command("lone-store", "lone.h5"), cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)

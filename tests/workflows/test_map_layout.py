@@ -147,7 +147,7 @@ def test_a_lower_bound_is_shown_as_one_in_the_report_and_the_figure(tmp_path):
     from filmscale.workflows import pipeline as pl
     from filmscale.workflows.report import scene_figure, write_report
     from filmscale.workflows.pipeline_scene import parse_pipeline
-    from tests.workflows.test_pipeline import BASE
+    from tests.helpers.scenes import BASE
     E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
     law = contact_law("komvopoulos-ye-continuous")
     E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)

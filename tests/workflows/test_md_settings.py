@@ -75,7 +75,7 @@ def test_every_advice_names_the_tolerance(tolerance):
 
 def test_the_plan_states_rule_6_for_an_md_source():
     from filmscale.workflows.plan import plan_scene
-    from tests.workflows.test_pipeline import scene
+    from tests.helpers.scenes import scene
     step = plan_scene(scene(film='[target.layers.calibrate]\nmd = "quick"')).steps[0]
     assert "(rule 6)" in step.error and step.advice == ms.md_settings_advice(_quick(), 0.05)[1]
     assert "   advice: no cheaper measured setting" in plan_scene(

@@ -16,33 +16,7 @@ from filmscale.workflows.plan import plan_scene
 from filmscale.workflows.report import write_figure, write_report
 from filmscale.workflows.result import RESULT_FORMAT
 from filmscale.workflows.pipeline_scene import parse_pipeline
-
-BASE = """
-[impactor]
-radius = {R}
-mass = {m}
-velocity = {V}
-{impactor_extra}
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-[[target.layers]]
-name = "film"
-thickness = {t}
-nu = 0.3
-{film}
-[outputs]
-want = {want}
-tolerance = 0.05
-"""
-
-
-def scene(R=10e-6, m=1.6e-6, V=0.2, t=4e-9, film='E = 200e9\nsigma_y = 8e9',
-          want='["maxima"]', impactor_extra=""):
-    return parse_pipeline(BASE.format(R=R, m=m, V=V, t=t, film=film, want=want,
-                                         impactor_extra=impactor_extra))
+from tests.helpers.scenes import BASE, scene
 
 
 def names(plan):
@@ -214,30 +188,15 @@ def test_scene_runs_resumes_after_an_interruption_and_reuses_every_unit(tmp_path
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def _sphere_curve_file(tmp_path) -> tuple[float, float]:
-    """film.csv: the contact law's loading of E = 120 GPa, sigma_y = 3 GPa (nu 0.3) under a
-    5 um diamond sphere to 20 first-yield approaches, with 1 % load noise; (E, sigma_y)."""
-    from filmscale.continuum.materials import DIAMOND
-    E, nu, sy, R = 120e9, 0.3, 3e9, 5e-6
-    law = contact_law("komvopoulos-ye-continuous")
-    E_r = ElasticPlastic(E, nu, sy).reduced_modulus(DIAMOND)
-    dy = float(law.first_yield(R, E_r, sy, nu).approach)
-    h = np.linspace(0.2 * dy, 20 * dy, 120)
-    P = law.contact(h, R, E_r, sy, nu).force
-    P = P + np.random.default_rng(2).normal(0.0, 0.01 * P.max(), h.size)
-    (tmp_path / "film.csv").write_text(
-        "h [nm], P [uN]\n" + "".join(f"{a * 1e9:.6f}, {b * 1e6:.8f}\n" for a, b in zip(h, P)))
-    return E, sy
-
-
-def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, monkeypatch):
+def test_scene_calibrates_a_layer_from_curve_files_without_any_run(tmp_path, monkeypatch,
+                                                                    film_csv):
     """A layer calibrated from a measured (text) sphere curve: the curve is made by the
     contact law with E = 120 GPa, sigma_y = 3 GPa, a diamond tip and 1 % noise; the scene
     recovers E and sigma_y within 3 std, the cross-scale check passes at 3 % (the misfit is
     the 1 % noise), no LAMMPS is launched, and the stored plan keeps the calibration step."""
     import filmscale.md.particle_run as particle_run
     import filmscale.md.run as md_run
-    E, sy = _sphere_curve_file(tmp_path)
+    E, sy = film_csv
     film = ('[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"\n'
             'tolerance = 0.03')
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=200e-9, impactor_extra="", film=film,
@@ -293,7 +252,7 @@ def test_cross_check_passes_at_the_noise_and_fails_below_it():
     """Forward-law curve with 1 % noise: the calibrated law reproduces it to about 1 % rms,
     so the check passes at 2 % and fails at 0.5 %."""
     from filmscale.continuum.calibration.sphere import calibrate_sphere
-    from tests.workflows.test_calibration import E_STAR, LAW, NU, SY, R, sphere_curve
+    from tests.helpers.curves import E_STAR, LAW, NU, SY, R, sphere_curve
     dy = float(LAW.first_yield(R, E_STAR, SY, NU).approach)
     cal = calibrate_sphere(sphere_curve(30 * dy, 0.01, np.random.default_rng(4)), nu=NU)
     assert cal.cross_check(0.02).passed and not cal.cross_check(0.005).passed
@@ -327,7 +286,7 @@ def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
     its Nix-Gao length goes into the scene, and the impact model's profile carries it
     (sigma_y of that layer at approach h equals sigma_y0 sqrt(1 + h*/h))."""
     from filmscale.continuum.indentation.io import CURVE_FORMAT, write_curve_group
-    from tests.workflows.test_calibration import sized_curves
+    from tests.helpers.curves import sized_curves
     with h5py.File(tmp_path / "berkovich.h5", "w") as f:
         for i, c in enumerate(sized_curves()):
             g = f.create_group(f"indent_{i}")
@@ -352,7 +311,7 @@ def test_sharp_curves_at_several_depths_give_the_layer_a_size_effect(tmp_path):
 
 def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tmp_path):
     """Two sources of one layer ([[target.layers.calibrate]]): a nanometre sphere curve (text
-    file, the MD-like curve of tests/workflows/test_joint.py) and Berkovich curves at 1-5 um
+    file, the MD-like curve of tests/helpers/joint_curves.py) and Berkovich curves at 1-5 um
     (HDF5), both from sigma_y = 0.3 GPa sqrt(1 + 2 um / d) and a diamond tip (curve files
     are read as measured with diamond). The plan names each source and
     the joint step; the joint law recovers sigma_y0 within 5 % and h* within 10 % (as in
@@ -360,7 +319,7 @@ def test_one_layer_from_nanometre_and_micrometre_sources_gets_one_nix_gao_law(tm
     both; a rerun reuses all four units."""
     from filmscale.continuum.indentation.io import CURVE_FORMAT, write_curve_group
     from filmscale.continuum.materials import DIAMOND
-    from tests.workflows import test_joint as tj
+    from tests.helpers import joint_curves as tj
     md = tj.md_curve(np.random.default_rng(1), indenter=DIAMOND)
     (tmp_path / "nm.csv").write_text(
         "h [nm], P [nN]\n" + "".join(f"{a * 1e9:.8f}, {b * 1e9:.8f}\n"
@@ -470,13 +429,13 @@ def test_an_md_curve_given_as_a_rigid_tip_file_calibrates_to_the_same_E(tmp_path
     assert abs(cals["diamond"].E.value / md_cal.E.value - 1) > 0.05   # E_i = 1141 GPa counts
 
 
-def test_the_calibrations_standard_deviations_reach_the_impact_map(tmp_path):
+def test_the_calibrations_standard_deviations_reach_the_impact_map(tmp_path, film_csv):
     """A film calibrated from a curve file, 50 um thick (the film alone carries the
     contact), hit slowly enough that nothing yields: Hertz, where delta_max ~ E*^(-2/5), so
     raising E by its std s_E changes delta_max by exactly 1 - (1 + s_E/E)^(-2/5) of itself
     and leaves the restitution at 1. The map's std must be that (1 % tolerance: the
     substrate's Gao weight under a 50 um film is below 1e-3)."""
-    E, sy = _sphere_curve_file(tmp_path)
+    E, sy = film_csv
     film = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
     text = BASE.format(R=1e-6, m=1e-12, V=1e-3, t=50e-6, impactor_extra="", film=film,
                        want='["maxima", "map"]') + \

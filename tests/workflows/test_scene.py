@@ -9,22 +9,9 @@ from filmscale.continuum import StackProfile
 from filmscale.continuum.contact.profiles import TableProfile, UniformProfile
 from filmscale.core.errors import InputError
 from filmscale.workflows.scene import load_scene, parse_scene
+from tests.helpers.scenes import MINIMAL
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
-
-MINIMAL = """
-[impactor]
-shape = "sphere"
-radius = 10e-6
-mass = 1.6e-6
-velocity = 0.2
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-"""
 
 
 def test_example_scene_builds_a_layered_model():

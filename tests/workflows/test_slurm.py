@@ -13,7 +13,7 @@ import time
 import h5py
 import pytest
 
-from tests.workflows.test_pipeline import BASE
+from tests.helpers.scenes import BASE
 
 
 def _slurm_up() -> bool:

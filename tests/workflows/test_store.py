@@ -12,29 +12,22 @@ import sys
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
 
 from filmscale.workflows import pipeline as pl
 from filmscale.workflows.pipeline_scene import parse_pipeline
 from filmscale.workflows.store import code_version
-from tests.workflows.test_pipeline import BASE, _sphere_curve_file
-
-CURVES_FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
+from tests.helpers.curves import sphere_curve_file
+from tests.helpers.results import scene_results
+from tests.helpers.scenes import BASE, CURVES_FILM
 
 
 def _curves_scene(tmp_path):
-    _sphere_curve_file(tmp_path)
+    sphere_curve_file(tmp_path)
     text = BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="", film=CURVES_FILM,
                        want='["maxima"]')
     return parse_pipeline(text, "s.toml", tmp_path)
-
-
-def _results(path):
-    with h5py.File(path, "r") as f:
-        return (f["calibration/0"].attrs["E"], f["calibration/0"].attrs["sigma_y"],
-                f["impact/point/delta_max"][()], f["impact/point/restitution"][()])
 
 
 @pytest.mark.parametrize("damage", ["flip a byte of fit.npz", "change E in done.json",
@@ -62,7 +55,7 @@ def test_a_corrupted_unit_is_set_aside_and_computed_again(tmp_path, capsys, dama
     assert second.units[unit.name] == "ran"
     assert f"unit {unit.name} is corrupted" in err
     assert len(list(store.glob(f"{unit.name}.corrupt-*"))) == 1     # nothing deleted
-    assert _results(second.path) == _results(first.path)
+    assert scene_results(second.path) == scene_results(first.path)
     # the recomputed unit is sound again: a third run reuses everything
     assert set(pl.run_scene(scene, store, tmp_path / "c.h5").units.values()) == {"reused"}
 
@@ -117,15 +110,15 @@ def test_two_runs_at_once_compute_each_unit_once_and_the_store_moves(tmp_path):
     assert len([p for p in store.glob("md-indent-*") if p.is_dir()]) == 1
     lone = _run(scene, tmp_path / "lone", tmp_path / "lone.h5")
     assert lone.communicate(timeout=600) and lone.returncode == 0
-    want = _results(tmp_path / "lone.h5")
+    want = scene_results(tmp_path / "lone.h5")
     for i in range(2):
-        assert _results(tmp_path / f"r{i}.h5") == want
+        assert scene_results(tmp_path / f"r{i}.h5") == want
     moved = tmp_path / "elsewhere" / "store"
     shutil.copytree(store, moved)
     again = pl.run_scene(parse_pipeline(_md_scene_file(tmp_path, 2).read_text(), "s.toml",
                                         tmp_path), moved, tmp_path / "moved.h5")
     assert set(again.units.values()) == {"reused"}
-    np.testing.assert_array_equal(_results(again.path), want)
+    np.testing.assert_array_equal(scene_results(again.path), want)
 
 
 def test_two_runs_of_an_ensemble_share_out_its_seeds(tmp_path):
@@ -146,7 +139,7 @@ def test_two_runs_of_an_ensemble_share_out_its_seeds(tmp_path):
     assert [p.returncode for p in (first, second)] == [0, 0], outputs
     assert [err.count("filmscale: md-indent ci-cu001") for _, err in outputs] == [1, 1]
     assert len([p for p in store.glob("md-indent-*") if p.is_dir()]) == 2
-    assert _results(tmp_path / "a.h5") == _results(tmp_path / "b.h5")
+    assert scene_results(tmp_path / "a.h5") == scene_results(tmp_path / "b.h5")
 
 
 def test_a_run_unit_stored_with_its_curve_as_arrays_still_reads(tmp_path):

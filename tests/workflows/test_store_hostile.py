@@ -20,8 +20,9 @@ import pytest
 
 from filmscale.core.files import shown
 from filmscale.workflows.cli import main
-from tests.workflows.test_pipeline import BASE, _sphere_curve_file
-from tests.workflows.test_store import CURVES_FILM, _results
+from tests.helpers.curves import sphere_curve_file
+from tests.helpers.results import scene_results
+from tests.helpers.scenes import BASE, CURVES_FILM
 
 
 @pytest.fixture(autouse=True)
@@ -33,7 +34,7 @@ def _no_slurm(monkeypatch):
 
 
 def _scene_file(tmp_path) -> Path:
-    _sphere_curve_file(tmp_path)
+    sphere_curve_file(tmp_path)
     path = tmp_path / "s.toml"
     path.write_text(BASE.format(R=1e-6, m=1e-12, V=1.0, t=2e-6, impactor_extra="",
                                 film=CURVES_FILM, want='["maxima"]'))
@@ -54,7 +55,7 @@ def _rerun(tmp_path, scene, store, capsys) -> str:
     code = main(["run", str(scene), "--store", str(store), "--out", str(tmp_path / "b.h5")])
     err = capsys.readouterr().err
     assert code == 0, err
-    assert _results(tmp_path / "b.h5") == _results(tmp_path / "a.h5")
+    assert scene_results(tmp_path / "b.h5") == scene_results(tmp_path / "a.h5")
     return err
 
 

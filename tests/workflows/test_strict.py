@@ -13,9 +13,9 @@ import pytest
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.materials import DIAMOND, ElasticPlastic
 from filmscale.workflows.cli import main
-from tests.workflows import test_calibration as tc
-from tests.workflows.test_calibrate_cli import _write
-from tests.workflows.test_pipeline import BASE
+from tests.helpers import curves as tc
+from tests.helpers.curves import write_curves
+from tests.helpers.scenes import BASE
 
 E, NU, SY, R = 120e9, 0.3, 3e9, 5e-6
 LAW = contact_law("komvopoulos-ye-continuous")
@@ -118,7 +118,7 @@ def test_json_keys_and_types(tmp_path, capsys):
 
 def test_sharp_curves_at_one_depth_try_no_depth_law(tmp_path, capsys):
     _, curve = tc.synthetic_sharp_curve(70.1e9, 0.33, 0.5e9, 0.122, 1e-6)
-    status, out, _ = _call(capsys, _write(tmp_path / "berk.h5", [curve]), "--nu", "0.33",
+    status, out, _ = _call(capsys, write_curves(tmp_path / "berk.h5", [curve]), "--nu", "0.33",
                            "--json")
     d = json.loads(out)
     assert status == 0 and d["route"] == "sharp"
@@ -131,7 +131,7 @@ def test_sharp_curves_of_one_material_at_three_depths_identify_no_h_star(tmp_pat
     size-effect fit is tried and finds no h*, so --strict exits 1 naming h_star."""
     curves = [tc.synthetic_sharp_curve(70.1e9, 0.33, 0.5e9, 0.122, h)[1]
               for h in (0.5e-6, 1e-6, 2e-6)]
-    path = _write(tmp_path / "depths.h5", curves)
+    path = write_curves(tmp_path / "depths.h5", curves)
     status, out, err = _call(capsys, path, "--nu", "0.33", "--json", "--strict")
     d = json.loads(out)
     assert d["route"] == "sharp" and not d["h_star_identified"] and d["h_star_reason"]

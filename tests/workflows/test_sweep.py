@@ -11,13 +11,14 @@ from filmscale.workflows import pipeline as pl
 from filmscale.workflows.cli import main
 from filmscale.workflows.pipeline_scene import parse_pipeline
 from filmscale.workflows.sweep import expand, load_sweep, run_sweep
-from tests.workflows.test_pipeline import BASE, _sphere_curve_file
+from tests.helpers.curves import sphere_curve_file
+from tests.helpers.scenes import BASE
 
 FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
 
 
 def _base(tmp_path, V=1.0):
-    _sphere_curve_file(tmp_path)
+    sphere_curve_file(tmp_path)
     text = BASE.format(R=1e-6, m=1e-12, V=V, t=2e-6, impactor_extra="", film=FILM,
                        want='["maxima"]')
     (tmp_path / "base.toml").write_text(text)

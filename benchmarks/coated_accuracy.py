@@ -8,7 +8,7 @@ For a rigid sphere (paraboloid, R = 1 mm) on a film of t = 1 um bonded to a subs
 
 - Gao: the weighting the package applies (`StackProfile.properties(delta, R)`: the Gao-weighted
   plane-strain modulus at a = sqrt(R delta)), with Hertz's load at that modulus
-  (`hertz._hertz_force`). Load error at the exact approach delta; approach error at the
+  (`hertz.hertz_force_unchecked`). Load error at the exact approach delta; approach error at the
   exact load P (the Gao approach that gives P). And as a stiffness model: Gao's modulus at
   the exact contact radius (delta = a^2/R in `properties`) against the flat punch's S/(2a)
   (`apparent_modulus`).
@@ -41,7 +41,7 @@ from scipy.optimize import brentq
 from scipy.special import gamma, j0, jv
 
 from filmscale.continuum.contact import coated
-from filmscale.continuum.contact.hertz import _hertz_force
+from filmscale.continuum.contact.hertz import hertz_force_unchecked
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 
@@ -128,7 +128,7 @@ def row(ratio, lam):
     profile = StackProfile(LayerStack((Layer(T, film),), sub))
 
     def gao(d):
-        return float(_hertz_force(d, R, profile.properties(d, R)[0]))
+        return float(hertz_force_unchecked(d, R, profile.properties(d, R)[0]))
     P_gao, t_gao = timed(gao, delta)
     d_gao = root_in_log(gao, P, delta)
     # as a stiffness model: Gao's modulus at the contact radius a against S/(2a)

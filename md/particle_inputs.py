@@ -45,12 +45,15 @@ INDENT_COLUMNS = ("time", "depth", "load", "apex")
 IMPACT_COLUMNS = ("time", "approach", "load", "velocity")
 
 
-def _num(x: float) -> str:
+def lammps_number(x: float) -> str:
+    """A number as written into a LAMMPS input: 10 significant digits."""
     return f"{x:.10g}"
 
 
-def _u(value: float, dimension: str) -> str:
-    return _num(si_to_lammps(value, dimension, "particle"))
+def lammps_quantity(value: float, dimension: str) -> str:
+    """An SI ``value`` of ``dimension`` converted to the ``particle`` units and written as
+    `lammps_number`."""
+    return lammps_number(si_to_lammps(value, dimension, "particle"))
 
 
 def _clamp_min(a: str, b: str) -> str:
@@ -58,7 +61,7 @@ def _clamp_min(a: str, b: str) -> str:
     return f"0.5*(({a})+({b})-abs(({a})-({b})))"
 
 
-def _scales(spec) -> tuple[float, float, float | None, float]:
+def particle_scales(spec) -> tuple[float, float, float | None, float]:
     """The spacing dx and block depth D (on the lattice), the sphere radius R (None for other
     tips) and the largest E* of the target's materials, in particle units."""
     g = spec.grid
@@ -69,7 +72,7 @@ def _scales(spec) -> tuple[float, float, float | None, float]:
     return dx, round(g.depth / g.spacing) * dx, R, E_star
 
 
-def _block_lines(spec, n_types: int, top: float) -> list[str]:
+def block_lines(spec, n_types: int, top: float) -> list[str]:
     """The lattice, the block region and a box reaching up to ``top`` (particle units):
     the target's surface is z = 0 with a lattice point on the axis."""
     g = spec.grid
@@ -78,15 +81,18 @@ def _block_lines(spec, n_types: int, top: float) -> list[str]:
     D = round(g.depth / g.spacing) * dx
     x_lo = -0.5 * dx if g.symmetric else -W - 0.5 * dx
     y_lo = -0.5 * dx if g.quarter else -W - 0.5 * dx
-    xy = f"{_num(x_lo)} {_num(W + 0.5 * dx)} {_num(y_lo)} {_num(W + 0.5 * dx)}"
+    xy = (f"{lammps_number(x_lo)} {lammps_number(W + 0.5 * dx)} {lammps_number(y_lo)} "
+          f"{lammps_number(W + 0.5 * dx)}")
     nx, ny, nz = g.counts()
     planes = (" (quarter model: symmetry planes x = 0 and y = 0)" if g.quarter else
               " (half model: symmetry plane x = 0)" if g.half else "")
     return [
         f"# ---- block: {nx} x {ny} x {nz} lattice points of spacing {g.spacing:g} m{planes}",
-        f"lattice sc {_num(dx)}",
-        f"region block block {xy} {_num(-D - 0.5 * dx)} {_num(0.5 * dx)} units box",
-        f"region world block {xy} {_num(-D - 0.5 * dx)} {_num(max(top, 0.5 * dx))} units box",
+        f"lattice sc {lammps_number(dx)}",
+        f"region block block {xy} {lammps_number(-D - 0.5 * dx)} {lammps_number(0.5 * dx)} "
+        "units box",
+        f"region world block {xy} {lammps_number(-D - 0.5 * dx)} "
+        f"{lammps_number(max(top, 0.5 * dx))} units box",
         f"create_box {n_types} world",
     ]
 
@@ -99,21 +105,21 @@ def layer_lines(spec, dx: float) -> list[str]:
     top = 0.0
     for k, (t, _) in enumerate(spec.target.films, start=1):
         bottom = top - si_to_lammps(t, "length", "particle")
-        lines += [f"region layer{k} block INF INF INF INF {_num(bottom + 0.5 * dx)} "
-                  f"{_num(top + 0.5 * dx)} units box",
+        lines += [f"region layer{k} block INF INF INF INF {lammps_number(bottom + 0.5 * dx)} "
+                  f"{lammps_number(top + 0.5 * dx)} units box",
                   f"set region layer{k} type {k}"]
         top = bottom
     return lines
 
 
-def _weight_groups(grid: Grid, member: str) -> list[str]:
+def weight_group_lines(grid: Grid, member: str) -> list[str]:
     """Groups ``interior``, ``plane`` and ``axis`` of ``member``: in a symmetric model the
     particles on one symmetry plane own half a cell, those on the axis (quarter model) a
     quarter."""
     if not grid.symmetric:
         return [f"group interior union {member}", "group plane empty", "group axis empty"]
     dx = si_to_lammps(grid.spacing, "length", "particle")
-    h = _num(0.5 * dx)
+    h = lammps_number(0.5 * dx)
     if grid.half:
         return [
             f"region xplane block INF {h} INF INF INF INF units box",
@@ -147,7 +153,7 @@ def smd_preamble(spec, version: str, dx: float) -> list[str]:
         "atom_modify map array",
         "comm_modify vel yes",
         "newton off",
-        f"neighbor {_num(0.5 * dx)} bin",
+        f"neighbor {lammps_number(0.5 * dx)} bin",
         "neigh_modify every 10 delay 0 check yes",
     ]
 
@@ -157,7 +163,7 @@ def smd_boundary_lines(grid: Grid, D: float, dx: float) -> list[str]:
     on the symmetry planes (``smd/setvel``), particle units."""
     lines = [
         "# ---- boundary conditions: rigid base, symmetry planes (normal velocity zero)",
-        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        f"region base block INF INF INF INF INF {lammps_number(-D + 0.5 * dx)} units box",
         "group base_all region base",
         "group base intersect base_all target",
         "fix base base smd/setvel 0 0 0",
@@ -181,16 +187,16 @@ def _indent_fix_lines(spec, K: float, geometries: dict[str, str],
                                                                  2 if spec.grid.half else 1]
     for name, geometry in geometries.items():
         for group, w in groups:
-            lines.append(f"fix {name}_{group} {group} indent {_num(K * w / scale)} {geometry} "
-                         "units box")
+            lines.append(f"fix {name}_{group} {group} indent {lammps_number(K * w / scale)} "
+                         f"{geometry} units box")
             terms.append(f"f_{name}_{group}[3]")
     mult = spec.grid.symmetry_factor * scale
-    lines.append(f"variable load equal {_num(mult)}*({'+'.join(terms)})")
+    lines.append(f"variable load equal {lammps_number(mult)}*({'+'.join(terms)})")
     return lines
 
 
 def _sphere_geometry(R: float, centre: str) -> str:
-    return f"sphere 0 0 {centre} {_num(R)}"
+    return f"sphere 0 0 {centre} {lammps_number(R)}"
 
 
 def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
@@ -198,7 +204,7 @@ def _cone_geometry(tip: Cone, apex: str, height: float, dx: float) -> str:
     # a radius of 1 % of a spacing
     r0 = si_to_lammps(tip.tip_radius, "length", "particle") if tip.tip_radius > 0 else 0.01 * dx
     r1 = r0 + height * math.tan(math.radians(tip.half_angle))
-    return (f"cone z 0 0 {_num(r0)} {_num(r1)} v_{apex} "
+    return (f"cone z 0 0 {lammps_number(r0)} {lammps_number(r1)} v_{apex} "
             f"v_{apex}_top")
 
 
@@ -209,11 +215,12 @@ def _sphero_conical_lines(tip: SphericalCone, height: float) -> tuple[list[str],
     R = si_to_lammps(tip.R, "length", "particle")
     theta = math.radians(tip.half_angle)
     r_t = R * math.cos(theta)
-    lines = [f"variable zc equal -v_depth+{_num(R)}",
-             f"variable tangent equal -v_depth+{_num(R * (1 - math.sin(theta)))}",
-             f"variable tangent_top equal v_tangent+{_num(height)}"]
+    lines = [f"variable zc equal -v_depth+{lammps_number(R)}",
+             f"variable tangent equal -v_depth+{lammps_number(R * (1 - math.sin(theta)))}",
+             f"variable tangent_top equal v_tangent+{lammps_number(height)}"]
     return lines, {"ind": _sphere_geometry(R, "v_zc"),
-                   "frustum": f"cone z 0 0 {_num(r_t)} {_num(r_t + height * math.tan(theta))}"
+                   "frustum": f"cone z 0 0 {lammps_number(r_t)} "
+                              f"{lammps_number(r_t + height * math.tan(theta))}"
                               " v_tangent v_tangent_top"}
 
 
@@ -237,13 +244,14 @@ def _pyramid_lines(spec, K: float, dx: float, scale: float = 1.0) -> list[str]:
     lines = [
         "# ---- the pyramid: three faces through the apex; a particle inside is pushed out of",
         "#      its nearest face with K d^2 (fix indent's law)",
-        f"region near cylinder z 0 0 {_num(reach)} {_num(-h_max - 2 * dx)} {_num(0.5 * dx)} "
-        "units box",
+        f"region near cylinder z 0 0 {lammps_number(reach)} {lammps_number(-h_max - 2 * dx)} "
+        f"{lammps_number(0.5 * dx)} units box",
         "group near_all region near    # the particles the tip can reach",
         "group near intersect near_all target",
     ]
     for k, (nx, ny, nz) in enumerate(normals, start=1):
-        lines.append(f"variable s{k} atom {_num(nx)}*x+{_num(ny)}*y+{_num(nz)}*(z-v_apex)")
+        lines.append(f"variable s{k} atom {lammps_number(nx)}*x+{lammps_number(ny)}*y"
+                     f"+{lammps_number(nz)}*(z-v_apex)")
     for k in range(1, 4):
         others = [j for j in range(1, 4) if j != k]
         # ties (measure zero) would count two faces; >= against the lower index only
@@ -253,14 +261,14 @@ def _pyramid_lines(spec, K: float, dx: float, scale: float = 1.0) -> list[str]:
     weight = "1"
     if spec.grid.symmetric:
         weight += "-0.5*gmask(plane)" + ("-0.75*gmask(axis)" if spec.grid.quarter else "")
-    lines.append(f"variable kw atom {_num(K / scale)}*({weight})")
+    lines.append(f"variable kw atom {lammps_number(K / scale)}*({weight})")
     for axis, i in (("x", 0), ("y", 1), ("z", 2)):
-        terms = "+".join(f"v_d{k}*({_num(n[i])})" for k, n in enumerate(normals, start=1))
+        terms = "+".join(f"v_d{k}*({lammps_number(n[i])})" for k, n in enumerate(normals, start=1))
         lines.append(f"variable f{axis} atom v_kw*({terms})")
     mult = spec.grid.symmetry_factor * scale
     lines += ["fix pyramid near addforce v_fx v_fy v_fz",
               "compute pyramid_z near reduce sum v_fz",
-              f"variable load equal {_num(-mult)}*c_pyramid_z"]
+              f"variable load equal {lammps_number(-mult)}*c_pyramid_z"]
     return lines
 
 
@@ -268,17 +276,17 @@ def _tlsph_material(m: ParticleMaterial) -> str:
     mat = m.material
     rho = si_to_lammps(m.density, "density", "particle")
     E = si_to_lammps(mat.E, "pressure", "particle")
-    common = (f"*COMMON {_num(rho)} {_num(E)} {_num(mat.nu)} {TLSPH_Q1} {TLSPH_Q2} "
-              f"{TLSPH_HOURGLASS} 1.0")
+    common = (f"*COMMON {lammps_number(rho)} {lammps_number(E)} {lammps_number(mat.nu)} "
+              f"{TLSPH_Q1} {TLSPH_Q2} {TLSPH_HOURGLASS} 1.0")
     if m.elastic:
         strength = "*STRENGTH_LINEAR"
     elif mat.n == 0.0:
-        strength = f"*STRENGTH_LINEAR_PLASTIC {_u(mat.sigma_y, 'pressure')} 0"
+        strength = f"*STRENGTH_LINEAR_PLASTIC {lammps_quantity(mat.sigma_y, 'pressure')} 0"
     else:
         A, B, N = johnson_cook_hardening(mat)
         # no rate and no thermal term: C = 0 and the melting point far away
-        strength = (f"*JOHNSON_COOK {_u(A, 'pressure')} {_u(B, 'pressure')} {_num(N)} 0 1 "
-                    "0 1e30 1")
+        strength = (f"*JOHNSON_COOK {lammps_quantity(A, 'pressure')} "
+                    f"{lammps_quantity(B, 'pressure')} {lammps_number(N)} 0 1 0 1e30 1")
     return f"{common} {strength} *EOS_LINEAR *END"
 
 
@@ -322,8 +330,9 @@ def _impactor_lines(spec: ParticleImpactSpec, dx: float, create: str) -> list[st
     return [
         "# ---- the impactor: an unbonded particle cluster carries the sphere's mass; its",
         "#      height drives the indenter and the indenter's reaction drives it",
-        f"region imp block {_num(x0 - 1.5 * dx)} {_num(x0 + 1.5 * dx)} {_num(x0 - 1.5 * dx)} "
-        f"{_num(x0 + 1.5 * dx)} {_num(z0 - 1.5 * dx)} {_num(z0 + 1.5 * dx)} units box",
+        f"region imp block {lammps_number(x0 - 1.5 * dx)} {lammps_number(x0 + 1.5 * dx)} "
+        f"{lammps_number(x0 - 1.5 * dx)} {lammps_number(x0 + 1.5 * dx)} "
+        f"{lammps_number(z0 - 1.5 * dx)} {lammps_number(z0 + 1.5 * dx)} units box",
         create,
         "group imp region imp",
     ]
@@ -333,11 +342,11 @@ def _tlsph_input(spec, version: str) -> str:
     impact = isinstance(spec, ParticleImpactSpec)
     g = spec.grid
     mat = spec.target.substrate
-    dx, D, R, E_star = _scales(spec)
+    dx, D, R, E_star = particle_scales(spec)
     vol = dx**3
     lines = [
         *smd_preamble(spec, version, dx),
-        *_block_lines(spec, 2 if impact else 1, _impactor_top(spec, dx) if impact else 0.0),
+        *block_lines(spec, 2 if impact else 1, _impactor_top(spec, dx) if impact else 0.0),
         "create_atoms 1 region block",
         "group target type 1",
         "set group target mol 1",
@@ -349,13 +358,13 @@ def _tlsph_input(spec, version: str) -> str:
         lines += _impactor_lines(spec, dx, "create_atoms 2 region imp")
         lines += ["set group imp mol 2", "group target subtract all imp"]
     lines += [
-        *_weight_groups(g, "target"),
-        f"set group all volume {_num(vol)}",
-        f"set group plane volume {_num(vol / 2)}",
-        f"set group axis volume {_num(vol / 4)}",
-        f"set group all smd/mass/density {_u(mat.density, 'density')}",
-        f"set group all diameter {_num(TLSPH_KERNEL * dx)}",
-        f"set group all smd/contact/radius {_num(0.5 * dx)}",
+        *weight_group_lines(g, "target"),
+        f"set group all volume {lammps_number(vol)}",
+        f"set group plane volume {lammps_number(vol / 2)}",
+        f"set group axis volume {lammps_number(vol / 4)}",
+        f"set group all smd/mass/density {lammps_quantity(mat.density, 'density')}",
+        f"set group all diameter {lammps_number(TLSPH_KERNEL * dx)}",
+        f"set group all smd/contact/radius {lammps_number(0.5 * dx)}",
         "group tlsph type 1    # the name MACHDYN requires",
         "",
         "# ---- material (SI values converted to um, GPa, ns)",
@@ -376,12 +385,14 @@ def _tlsph_input(spec, version: str) -> str:
     if impact:
         lines += _impact_driver(spec, dx, R, K)
     else:
-        lines += _indent_driver(spec, dx, R, K, D)
-    lines += _run_lines(spec, "mol x y z c_stress[7] c_ep")
-    return _finish(spec, lines)
+        lines += indent_driver_lines(spec, dx, R, K, D)
+    lines += run_lines(spec, "mol x y z c_stress[7] c_ep")
+    return assemble_input(spec, lines)
 
 
-def _finish(spec, lines: list[str]) -> str:
+def assemble_input(spec, lines: list[str]) -> str:
+    """The input text of ``lines``, with the record interval (~1/400 of the run's estimated
+    steps) filled in for ``{every}``."""
     every = max(1, estimated_steps(spec) // 400)
     return "\n".join(ln.replace("{every}", str(every)) for ln in lines) + "\n"
 
@@ -392,19 +403,21 @@ def _record_row(impact: bool) -> str:
     return " ".join(f"$(v_{n}:%.10g)" for n in names)
 
 
-def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
-                   D: float, scale: float = 1.0) -> list[str]:
+def indent_driver_lines(spec: ParticleIndentSpec, dx: float, R: float | None, K: float,
+                        D: float, scale: float = 1.0) -> list[str]:
+    """The displacement-controlled indenter of ``spec`` (down, hold, up), its penalty
+    contact of stiffness ``K`` and the record of depth, load and apex (particle units)."""
     p = spec.loading
     v = si_to_lammps(p.speed, "velocity", "particle")
     t1, t2, _ = (si_to_lammps(t, "time", "particle") for t in p.times)
-    down = _clamp_min("v_t", _num(t1))
-    up = f"0.5*((v_t-{_num(t2)})+abs(v_t-{_num(t2)}))"
+    down = _clamp_min("v_t", lammps_number(t1))
+    up = f"0.5*((v_t-{lammps_number(t2)})+abs(v_t-{lammps_number(t2)}))"
     lines = [
         "# ---- displacement control: down at constant speed, hold, up",
-        f"variable depth equal {_num(v)}*({down})-{_num(v)}*({up})",
+        f"variable depth equal {lammps_number(v)}*({down})-{lammps_number(v)}*({up})",
     ]
     if isinstance(spec.tip, Sphere):
-        lines.append(f"variable zc equal {_num(R)}-v_depth")
+        lines.append(f"variable zc equal {lammps_number(R)}-v_depth")
         lines += _indent_fix_lines(spec, K, {"ind": _sphere_geometry(R, "v_zc")}, scale)
     elif is_pyramid(spec.tip):
         lines += ["variable apex equal -v_depth", *_pyramid_lines(spec, K, dx, scale)]
@@ -412,11 +425,12 @@ def _indent_driver(spec: ParticleIndentSpec, dx: float, R: float | None, K: floa
         tip_lines, geometries = _sphero_conical_lines(spec.tip, D)
         lines += [*tip_lines, *_indent_fix_lines(spec, K, geometries, scale)]
     else:
-        lines += ["variable apex equal -v_depth", f"variable apex_top equal v_apex+{_num(D)}"]
+        lines += ["variable apex equal -v_depth",
+                  f"variable apex_top equal v_apex+{lammps_number(D)}"]
         lines += _indent_fix_lines(spec, K, {"ind": _cone_geometry(spec.tip, "apex", D, dx)},
                                    scale)
     lines += [
-        f"region apex sphere 0 0 0 {_num(0.25 * dx)} units box",
+        f"region apex sphere 0 0 0 {lammps_number(0.25 * dx)} units box",
         "group apex region apex",
         "variable apex_z equal xcm(apex,z)    # the surface particle on the axis",
         f'fix record all print {{every}} "{_record_row(False)}" file {RECORD} screen no '
@@ -434,17 +448,17 @@ def _impact_driver(spec: ParticleImpactSpec, dx: float, R: float, K: float,
     return [
         "# ---- the free sphere: touching the surface at t = 0, moving down at V",
         "variable n_imp equal count(imp)",
-        f"variable m_imp equal {_num(m * imp_mass_scale)}/v_n_imp",
+        f"variable m_imp equal {lammps_number(m * imp_mass_scale)}/v_n_imp",
         "set group imp mass ${m_imp}",
         "variable z_imp0 equal $(xcm(imp,z))",
-        f"variable zc equal {_num(R)}+xcm(imp,z)-v_z_imp0",
-        f"variable approach equal {_num(R)}-v_zc",
-        f"velocity imp set 0 0 {_num(-V)} units box",
+        f"variable zc equal {lammps_number(R)}+xcm(imp,z)-v_z_imp0",
+        f"variable approach equal {lammps_number(R)}-v_zc",
+        f"velocity imp set 0 0 {lammps_number(-V)} units box",
         *_indent_fix_lines(spec, K, {"ind": _sphere_geometry(R, "v_zc")}, scale),
         "# the reaction on the sphere, spread over the cluster (defined after the indenter",
         "# fixes, so that it reads their force of the same step)",
-        f"variable push equal v_load/{_num(spec.grid.symmetry_factor)}/v_n_imp"
-        + (f"/{_num(scale)}" if scale != 1.0 else ""),
+        f"variable push equal v_load/{lammps_number(spec.grid.symmetry_factor)}/v_n_imp"
+        + (f"/{lammps_number(scale)}" if scale != 1.0 else ""),
         "fix push imp addforce 0 0 v_push",
         "variable vz equal vcm(imp,z)",
         f'fix record all print {{every}} "{_record_row(True)}" file {RECORD} screen no '
@@ -469,7 +483,7 @@ def estimated_steps(spec) -> int:
     return max(1, math.ceil(end / estimated_timestep(spec)))
 
 
-def _run_lines(spec, fields: str) -> list[str]:
+def run_lines(spec, fields: str) -> list[str]:
     """Record every ~1/400 of the run, snapshots ``frames`` times, stop at the end time
     (a simulated time: the step count is a bound) or when the contact has ended."""
     impact = isinstance(spec, ParticleImpactSpec)
@@ -481,7 +495,7 @@ def _run_lines(spec, fields: str) -> list[str]:
         lines.append(f"dump fields all custom {max(1, steps // frames)} fields.*.dump id type "
                      f"{fields}")
         lines.append("dump_modify fields first yes")
-    lines.append(f"variable finished equal v_t>={_num(end)}")
+    lines.append(f"variable finished equal v_t>={lammps_number(end)}")
     if impact:
         # the sphere has left: moving up with no contact force
         lines.append("variable stop equal v_finished+(v_vz>0)*(v_load<=0)")
@@ -489,7 +503,7 @@ def _run_lines(spec, fields: str) -> list[str]:
         # or the tip has left the surface while unloading (a plastic residual impression
         # would otherwise cost up to half the run)
         t2 = si_to_lammps(spec.loading.times[1], "time", "particle")
-        lines.append(f"variable stop equal v_finished+(v_t>{_num(t2)})*(v_load<=0)")
+        lines.append(f"variable stop equal v_finished+(v_t>{lammps_number(t2)})*(v_load<=0)")
     # the state where the run halted closes the record (the halt test and the record
     # interval differ, so the last recorded point may still carry load)
     lines += [
@@ -515,7 +529,8 @@ def _peri_coeff(m: ParticleMaterial, horizon: float) -> str:
     """``K G horizon s00 alpha`` of peri/lps: bulk and shear modulus from E and nu; a critical
     stretch s00 = 1 so that no bond breaks (the model is elastic)."""
     K, G = m.material.bulk_modulus, m.material.shear_modulus
-    return f"{_u(K, 'pressure')} {_u(G, 'pressure')} {_num(horizon)} 1.0 0.0"
+    return (f"{lammps_quantity(K, 'pressure')} {lammps_quantity(G, 'pressure')} "
+            f"{lammps_number(horizon)} 1.0 0.0")
 
 
 def peri_input(spec, version: str = "") -> str:
@@ -525,7 +540,7 @@ def peri_input(spec, version: str = "") -> str:
     the particle volume V and its force multiplied by V (docs/lammps.md, particle traps)."""
     impact = isinstance(spec, ParticleImpactSpec)
     g = spec.grid
-    dx, D, R, E_star = _scales(spec)
+    dx, D, R, E_star = particle_scales(spec)
     vol = dx**3
     horizon = PERI_HORIZON * dx
     mats = spec.target.materials
@@ -537,9 +552,10 @@ def peri_input(spec, version: str = "") -> str:
         "boundary s s s",
         "atom_style peri",
         "atom_modify map array",
-        f"neighbor {_num(0.5 * dx)} bin    # the SI default skin (1 mm) would be everything",
+        f"neighbor {lammps_number(0.5 * dx)} bin"
+        "    # the SI default skin (1 mm) would be everything",
         "neigh_modify every 1 delay 0 check yes",
-        *_block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
+        *block_lines(spec, n_types, _impactor_top(spec, dx) if impact else 0.0),
         f"create_atoms {n_types} region block",
     ]
     lines += [*layer_lines(spec, dx), "group target union all"]
@@ -547,13 +563,13 @@ def peri_input(spec, version: str = "") -> str:
         lines += _impactor_lines(spec, dx, f"create_atoms {n_types} region imp")
         lines += ["group target subtract all imp"]
     lines += [
-        *_weight_groups(g, "target"),
-        f"set group all volume {_num(vol)}",
+        *weight_group_lines(g, "target"),
+        f"set group all volume {lammps_number(vol)}",
         "",
         "# ---- materials (SI values converted to um, GPa, ns); rmass is the density",
     ]
     for k, m in enumerate(mats, start=1):
-        lines.append(f"set type {k} density {_u(m.density, 'density')}")
+        lines.append(f"set type {k} density {lammps_quantity(m.density, 'density')}")
     if n_types == 1:
         lines += ["pair_style peri/lps", f"pair_coeff 1 1 {_peri_coeff(mats[0], horizon)}"]
     else:
@@ -566,19 +582,20 @@ def peri_input(spec, version: str = "") -> str:
                 Ki, Kj = mats[i - 1].material.bulk_modulus, mats[j - 1].material.bulk_modulus
                 K = si_to_lammps(2 * Ki * Kj / (Ki + Kj), "pressure", "particle")
                 spring = 18 * K / (math.pi * horizon**4)
-                lines.append(f"pair_coeff {i} {j} {_num(spring)} {_num(horizon)} 1.0 0.0")
+                lines.append(f"pair_coeff {i} {j} {lammps_number(spring)} "
+                             f"{lammps_number(horizon)} 1.0 0.0")
     c = max(m.wave_speed for m in mats)
     dt = si_to_lammps(PERI_DT_FACTOR * g.spacing / c, "time", "particle")
     lines += [
         "",
         "# ---- rigid base; fixed timestep (PERI has no adaptive step)",
-        f"region base block INF INF INF INF INF {_num(-D + 0.5 * dx)} units box",
+        f"region base block INF INF INF INF INF {lammps_number(-D + 0.5 * dx)} units box",
         "group base_all region base",
         "group base intersect base_all target",
         "velocity all set 0 0 0",
         "fix integration all nve",
         "fix base base setforce 0 0 0",
-        f"timestep {_num(dt)}",
+        f"timestep {lammps_number(dt)}",
         "variable t equal time",
         "compute damage all damage/atom",
         "",
@@ -587,7 +604,7 @@ def peri_input(spec, version: str = "") -> str:
     if impact:
         lines += _impact_driver(spec, dx, R, K, scale=vol, imp_mass_scale=1.0 / vol)
     else:
-        lines += _indent_driver(spec, dx, R, K, D, scale=vol)
+        lines += indent_driver_lines(spec, dx, R, K, D, scale=vol)
     # the snapshot carries the bond damage (0 while elastic); PERI has no stress compute
-    lines += _run_lines(spec, "x y z c_damage")
-    return _finish(spec, lines)
+    lines += run_lines(spec, "x y z c_damage")
+    return assemble_input(spec, lines)

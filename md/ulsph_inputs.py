@@ -18,9 +18,10 @@ import math
 from dataclasses import dataclass
 
 from filmscale.core.checks import check_choice, check_real
-from filmscale.md.particle_inputs import (CFL, K_FACTOR, _block_lines, _finish, _indent_driver,
-                                          _num, _run_lines, _scales, _u, _weight_groups,
-                                          layer_lines, smd_boundary_lines, smd_preamble)
+from filmscale.md.particle_inputs import (CFL, K_FACTOR, assemble_input, block_lines,
+                                          indent_driver_lines, lammps_number, lammps_quantity,
+                                          layer_lines, particle_scales, run_lines,
+                                          smd_boundary_lines, smd_preamble, weight_group_lines)
 from filmscale.md.particles import ParticleMaterial
 
 
@@ -56,12 +57,14 @@ def ulsph_material(m: ParticleMaterial, settings: UlsphSettings = ULSPH_SETTINGS
     K, G = mat.bulk_modulus, mat.shear_modulus
     c0 = math.sqrt(K / m.density)
     # heat capacity Cp is only used by thermal models (none here): 1
-    common = (f"*COMMON {_u(m.density, 'density')} {_u(c0, 'velocity')} {_num(settings.q1)} "
+    common = (f"*COMMON {lammps_quantity(m.density, 'density')} "
+              f"{lammps_quantity(c0, 'velocity')} {lammps_number(settings.q1)} "
               f"1.0 {1.0 if settings.hourglass else 0.0}")
     if m.elastic:
-        strength = f"*STRENGTH_LINEAR {_u(G, 'pressure')}"
+        strength = f"*STRENGTH_LINEAR {lammps_quantity(G, 'pressure')}"
     else:
-        strength = f"*STRENGTH_LINEAR_PLASTIC {_u(G, 'pressure')} {_u(mat.sigma_y, 'pressure')} 0"
+        strength = (f"*STRENGTH_LINEAR_PLASTIC {lammps_quantity(G, 'pressure')} "
+                    f"{lammps_quantity(mat.sigma_y, 'pressure')} 0")
     return f"{common} *EOS_LINEAR {strength} *END"
 
 
@@ -69,28 +72,28 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
     """The complete LAMMPS input of a ULSPH indentation of ``spec`` (a `ParticleIndentSpec`
     of method ``ulsph``), homogeneous or layered, elastic or elastic-plastic."""
     g = spec.grid
-    dx, D, R, E_star = _scales(spec)
+    dx, D, R, E_star = particle_scales(spec)
     vol = dx**3
     mats = spec.target.materials
     n_types = len(mats)
     lines = [
         *smd_preamble(spec, version, dx),
-        *_block_lines(spec, n_types, 0.0),
+        *block_lines(spec, n_types, 0.0),
         f"create_atoms {n_types} region block",
     ]
     lines += [
         *layer_lines(spec, dx),
         "group target union all",
-        *_weight_groups(g, "target"),
-        f"set group all volume {_num(vol)}",
-        f"set group plane volume {_num(vol / 2)}",
-        f"set group axis volume {_num(vol / 4)}",
+        *weight_group_lines(g, "target"),
+        f"set group all volume {lammps_number(vol)}",
+        f"set group plane volume {lammps_number(vol / 2)}",
+        f"set group axis volume {lammps_number(vol / 4)}",
     ]
     for k, m in enumerate(mats, start=1):
-        lines.append(f"set type {k} smd/mass/density {_u(m.density, 'density')}")
+        lines.append(f"set type {k} smd/mass/density {lammps_quantity(m.density, 'density')}")
     lines += [
-        f"set group all diameter {_num(settings.kernel * dx)}",
-        f"set group all smd/contact/radius {_num(0.5 * dx)}",
+        f"set group all diameter {lammps_number(settings.kernel * dx)}",
+        f"set group all smd/contact/radius {lammps_number(0.5 * dx)}",
         "",
         "# ---- materials (SI values converted to um, GPa, ns); *CROSS bonds the layers",
         f"pair_style smd/ulsph *DENSITY_{settings.density.upper()} *VELOCITY_GRADIENT "
@@ -111,6 +114,6 @@ def ulsph_input(spec, version: str = "", settings: UlsphSettings = ULSPH_SETTING
         "compute ep all smd/plastic/strain",
         "",
     ]
-    lines += _indent_driver(spec, dx, R, K_FACTOR * E_star, D)
-    lines += _run_lines(spec, "x y z c_stress[7] c_ep")
-    return _finish(spec, lines)
+    lines += indent_driver_lines(spec, dx, R, K_FACTOR * E_star, D)
+    lines += run_lines(spec, "x y z c_stress[7] c_ep")
+    return assemble_input(spec, lines)

@@ -354,7 +354,7 @@ def shallow_depth_correction(records: list[dict], options: AnalysisOptions) -> i
 CSM_PROFILE_BINS = 30
 
 
-def _csm_profile_points(r: dict) -> list[tuple[float, float, float]]:
+def csm_profile_points(r: dict) -> list[tuple[float, float, float]]:
     """(h_c, E_r, H) of one CSM record: the medians of its points in `CSM_PROFILE_BINS`
     log-spaced bins of contact depth (a test measures the whole profile; its thousand
     points would outweigh every other indent), from the start of its depth range, or 2 % of
@@ -380,7 +380,7 @@ def profile_of(records: list[dict], interfaces=(), layer_names=()):
     ok = [r for r in records if r.get("status") == 0]
     points = []
     for r in ok:
-        points += _csm_profile_points(r) if r.get("csm") else [(r["h_c"], r["E_r"], r["H"])]
+        points += csm_profile_points(r) if r.get("csm") else [(r["h_c"], r["E_r"], r["H"])]
     if len(points) < 2:
         return None, None
     h_c, E_r, H = (np.array(column, dtype=float) for column in zip(*points))

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from filmscale.continuum.contact.hertz import _hertz_force
+from filmscale.continuum.contact.hertz import hertz_force_unchecked
 from filmscale.continuum.contact.laws import ContactLaw
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.continuum.contact.sneddon import SneddonElastic, sneddon_force
@@ -159,14 +159,14 @@ class SphereTarget:
                 shape = np.ones(d.shape)
                 positive = d > 0
                 shape[positive] = (sneddon_force(d[positive], R, 1.0)
-                                   / _hertz_force(d[positive], R, 1.0))
+                                   / hertz_force_unchecked(d[positive], R, 1.0))
                 force = force * shape
             return force
         # the reduced modulus does not depend on sigma_y: any finite value serves
         felt = self.properties(delta, R, E_star, 1.0, False)[0]
         if isinstance(law, SneddonElastic):
             return sneddon_force(delta, R, felt)
-        return _hertz_force(delta, R, felt)
+        return hertz_force_unchecked(delta, R, felt)
 
     def describe(self) -> str:
         tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"

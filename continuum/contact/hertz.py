@@ -48,13 +48,14 @@ def checked(**inputs) -> list[np.ndarray]:
     return [a[()] for a in check_broadcast(**arrays)]    # a[()]: 0-d arrays as scalars
 
 
-def _hertz_force(delta, R, E_star):
+def hertz_force_unchecked(delta, R, E_star):
+    """`hertz_force` without its input checks, for callers that checked them (laws, fits)."""
     return (4.0 / 3.0) * E_star * np.sqrt(R) * np.power(delta, 1.5)
 
 
 def hertz_force(delta, R, E_star):
     """P = (4/3) E* R^(1/2) delta^(3/2), N (delta, R in m; E* in Pa)."""
-    return _hertz_force(*checked(delta=delta, R=R, E_star=E_star))
+    return hertz_force_unchecked(*checked(delta=delta, R=R, E_star=E_star))
 
 
 def hertz_contact_radius(delta, R):
@@ -89,7 +90,7 @@ def elastic_impact(m, R, V, E_star) -> ElasticImpact:
     delta_max = np.power(15.0 * m * np.square(V) / (16.0 * E_star * np.sqrt(R)), 0.4)
     return ElasticImpact(
         delta_max=delta_max,
-        force_max=_hertz_force(delta_max, R, E_star),
+        force_max=hertz_force_unchecked(delta_max, R, E_star),
         contact_radius_max=np.sqrt(R * delta_max),
         mean_pressure_max=(4.0 / (3.0 * np.pi)) * E_star * np.sqrt(delta_max / R),
         contact_time=HERTZ_DURATION_FACTOR * delta_max / V,
@@ -115,7 +116,8 @@ def elastic_impact_time(delta, delta_max, V):
 
 # --- first yield (docs/physics.md section 2) ------------------------------------------------------
 
-def _pressure_factor(nu):
+def pressure_factor_unchecked(nu):
+    """`yield_pressure_factor` without its input checks."""
     return 1.295 * np.exp(0.736 * np.asarray(nu, dtype=float))
 
 
@@ -125,7 +127,7 @@ def yield_pressure_factor(nu):
     Fit of the exact on-axis von Mises result (1.613 at nu = 0.3; within 0.35 % for nu in
     [0, 0.5]); Green (2005), Jackson & Green (2005).
     """
-    return _pressure_factor(*checked(nu=nu))
+    return pressure_factor_unchecked(*checked(nu=nu))
 
 
 @dataclass(frozen=True)
@@ -138,8 +140,9 @@ class FirstYield:
     max_pressure: np.ndarray    #: p0 at yield = C(nu) sigma_Y, Pa
 
 
-def _first_yield(R, E_star, sigma_y, nu) -> FirstYield:
-    p0 = _pressure_factor(nu) * sigma_y
+def first_yield_unchecked(R, E_star, sigma_y, nu) -> FirstYield:
+    """`first_yield` without its input checks."""
+    p0 = pressure_factor_unchecked(nu) * sigma_y
     a_y = np.pi * p0 * R / (2.0 * E_star)
     return FirstYield(approach=a_y**2 / R, contact_radius=a_y,
                       force=(np.pi**3 / 6.0) * p0**3 * np.square(R) / np.square(E_star),
@@ -149,7 +152,7 @@ def _first_yield(R, E_star, sigma_y, nu) -> FirstYield:
 def first_yield(R, E_star, sigma_y, nu) -> FirstYield:
     """delta_Y = (pi C sigma_Y / (2E*))^2 R, a_Y = pi C sigma_Y R / (2E*),
     P_Y = (pi^3/6) (C sigma_Y)^3 R^2 / E*^2 (docs/physics.md section 2)."""
-    return _first_yield(*checked(R=R, E_star=E_star, sigma_y=sigma_y, nu=nu))
+    return first_yield_unchecked(*checked(R=R, E_star=E_star, sigma_y=sigma_y, nu=nu))
 
 
 def yield_velocity(m, R, E_star, sigma_y, nu):
@@ -159,5 +162,5 @@ def yield_velocity(m, R, E_star, sigma_y, nu):
     work (2/5) P_Y delta_Y.
     """
     m, R, E_star, sigma_y, nu = checked(m=m, R=R, E_star=E_star, sigma_y=sigma_y, nu=nu)
-    p0 = _pressure_factor(nu) * sigma_y
+    p0 = pressure_factor_unchecked(nu) * sigma_y
     return np.sqrt((np.pi**5 / 30.0) * p0**5 * np.power(R, 3) / (np.power(E_star, 4) * m))

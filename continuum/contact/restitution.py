@@ -25,7 +25,7 @@ import numpy as np
 
 from filmscale.core.checks import check_choice
 
-from .hertz import _hertz_force, checked
+from .hertz import hertz_force_unchecked, checked
 
 UNLOADING_MODELS = ("crater", "jackson-chusoipin-green", "brake")
 
@@ -62,7 +62,7 @@ def unload(model: str, *, delta_max, force_max, area_max, E_star, R, yield_appro
             ratio = np.maximum(delta_max / yield_approach, 1.0)
             residual = 1.02 * delta_max * (1.0 - ((ratio + 5.9) / 6.9) ** -0.54)
         else:
-            residual = delta_max * (1.0 - force_max / _hertz_force(delta_max, R, E_star))
+            residual = delta_max * (1.0 - force_max / hertz_force_unchecked(delta_max, R, E_star))
         recovery = delta_max - residual
         with np.errstate(divide="ignore", invalid="ignore"):    # recovery <= 0: caller flags it
             radius = np.square(3.0 * force_max / (4.0 * E_star) / recovery**1.5)

@@ -25,7 +25,7 @@ import numpy as np
 
 from filmscale.core.checks import check_positive_array
 
-from .hertz import _pressure_factor, checked
+from .hertz import pressure_factor_unchecked, checked
 from .restitution import thornton_restitution
 
 #: e (V/V_y)^(1/4) as V/V_y -> inf in Thornton's closed form:
@@ -70,4 +70,4 @@ def thornton_yield_ratio(limiting_pressure_factor, nu):
     f = C(nu) gives 1. Multiply V / V_Y by its inverse to enter `thornton_1997`."""
     f = check_positive_array("limiting_pressure_factor", limiting_pressure_factor)
     (nu,) = checked(nu=nu)
-    return ((f / _pressure_factor(nu)) ** 2.5)[()]
+    return ((f / pressure_factor_unchecked(nu)) ** 2.5)[()]

@@ -174,7 +174,7 @@ class LoadDisplacementCurve:
 
     @cached_property
     def _runs(self) -> tuple[tuple[int, int, int], ...]:
-        return tuple(_runs(self.segment))
+        return tuple(segment_runs(self.segment))
 
     def runs(self) -> list[tuple[int, int, int]]:
         """Contiguous segments as (label, start, stop) with stop exclusive."""
@@ -327,7 +327,8 @@ def _segment_codes(seg, n) -> np.ndarray:
     return arr
 
 
-def _runs(labels) -> list[tuple[int, int, int]]:
+def segment_runs(labels) -> list[tuple[int, int, int]]:
+    """Contiguous runs of equal ``labels`` as (label, start, stop), stop exclusive."""
     if labels.size == 0:
         return []
     edges = np.flatnonzero(np.diff(labels)) + 1
@@ -337,7 +338,7 @@ def _runs(labels) -> list[tuple[int, int, int]]:
 
 
 @lru_cache(maxsize=64)
-def _derivative_kernel(window: int) -> np.ndarray:
+def derivative_kernel(window: int) -> np.ndarray:
     """Savitzky-Golay first derivative (quadratic, odd ``window``), in convolution order: on a
     symmetric window the quadratic term drops out of the slope at the centre, leaving the
     least-squares line's slope, -j / sum(j^2) (scipy.signal, whose import takes a second,
@@ -440,7 +441,7 @@ def _rate(P, t):
     if t is not None:
         step = _quantile(np.diff(t), 0.5)
     while True:
-        kernel = _derivative_kernel(window)
+        kernel = derivative_kernel(window)
         half = window // 2      # edges repeat the end values (scipy.ndimage's "nearest")
         padded = np.concatenate([np.full(half, P[0]), P, np.full(half, P[-1])])
         rate = np.convolve(padded, kernel, mode="valid") / step
@@ -479,11 +480,12 @@ def detect_segments(h, P, t=None, *, min_run=3) -> np.ndarray:
     lab[np.abs(rate) < max(HOLD_RATE_FRACTION * scale, NOISE_SIGMAS * noise)] = HOLD
     Pi = P[idx]
     peak, low = int(np.argmax(Pi)), 0.1 * float(np.max(Pi))
-    for label, start, stop in _runs(lab):    # noise at first contact, where P ~ h^2 rises slowly
+    # noise at first contact, where P ~ h^2 rises slowly
+    for label, start, stop in segment_runs(lab):
         if label != LOAD and stop <= peak and np.mean(Pi[start:stop]) < low:
             lab[start:stop] = LOAD
     for _ in range(2):      # short holds first become load/unload, then short blips merge
-        for label, start, stop in _runs(lab):
+        for label, start, stop in segment_runs(lab):
             if stop - start < min_run and not (start == 0 and stop == lab.size):
                 lab[start:stop] = lab[start - 1] if start > 0 else lab[stop]
     labels[idx] = lab

@@ -41,7 +41,7 @@ import numpy as np
 from filmscale.core.errors import InputError
 from filmscale.core.noise import noise_sigma
 
-from .curves import LOAD, LoadDisplacementCurve, _derivative_kernel
+from .curves import LOAD, LoadDisplacementCurve, derivative_kernel
 
 SURFACE_METHODS = ("auto", "file", "load", "stiffness", "slope", "fit")
 #: the unit of each threshold
@@ -150,7 +150,7 @@ def crossing(h, values, threshold: float) -> float:
 
 def _dP_dh(h, P) -> np.ndarray:
     """dP/dh from 7-point least-squares slopes of P and h against the sample index."""
-    kernel = _derivative_kernel(7)
+    kernel = derivative_kernel(7)
     if h.size < 7:
         return np.gradient(P, h)
     dP = np.convolve(np.pad(P, 3, mode="edge"), kernel, mode="valid")

@@ -108,7 +108,7 @@ def si_unit(unit: str) -> tuple[float, dict[str, float]] | None:
     return factor, {d: p for d, p in dims.items() if p != 0.0}
 
 
-def _unit(text) -> str:
+def clean_unit(text) -> str:
     """A unit as written, with the Greek mu made the micro sign and brackets dropped."""
     text = str(text).strip().replace("\u03bc", "\u00b5")
     return text[1:-1].strip() if text[:1] in "[(" and text[-1:] in "])" else text
@@ -119,11 +119,11 @@ def split_name(text) -> tuple[str, str | None]:
     text = str(text).strip()
     match = _NAME_UNIT.match(text)
     if match and match.group(1):
-        return match.group(1), _unit(match.group(2) or match.group(3) or "")
+        return match.group(1), clean_unit(match.group(2) or match.group(3) or "")
     return text, None
 
 
-def _is_unit_row(cells) -> bool:
+def is_unit_row(cells) -> bool:
     """True for the row of units under a header (a G200 units row, a two-row header): no cell
     is a number and at least one is a known unit. Units not known here (``deg``, ``nm^2``,
     ``1/nm``) do not make it a data row."""
@@ -132,7 +132,7 @@ def _is_unit_row(cells) -> bool:
         return False
     if any(_admits(str(c).strip()) for c in seen):
         return False
-    return any(_unit(c) in _KNOWN_UNITS for c in seen)
+    return any(clean_unit(c) in _KNOWN_UNITS for c in seen)
 
 
 @dataclass(frozen=True)
@@ -202,7 +202,7 @@ def parse_columns(text: str) -> tuple:
         if not eq or not rest.strip():
             raise InputError(f"--columns item {item!r} is not ROLE=NAME[:UNIT] (ROLE h, P, t)")
         name, _, unit = rest.rpartition(":") if ":" in rest else (rest, "", "")
-        out.append((role.strip(), _column_key(name.strip()), _unit(unit) if unit else None))
+        out.append((role.strip(), _column_key(name.strip()), clean_unit(unit) if unit else None))
     return tuple(out)
 
 
@@ -237,8 +237,10 @@ def read_options_file(path, base: ReadOptions | None = None) -> ReadOptions:
 
 # ---- columns -----------------------------------------------------------------------------
 
-def _pick_columns(names, units, options: ReadOptions, source) -> dict:
-    """{role: (column index, factor to SI)} for h, P and, when present, t."""
+def pick_columns(names, units, options: ReadOptions, source) -> dict:
+    """{role: (column index, factor to SI)} for h, P and, when present, t, from a header's
+    column ``names`` and ``units`` (None where a name carries its own) and the user's
+    column choices in ``options``."""
     parsed = [split_name(n) for n in names]
     labels = [p[0].strip().lower() for p in parsed]
     units = [u if u is not None else p[1] for u, p in zip(units, parsed)]
@@ -448,11 +450,11 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
         raise InputError(f"{shown(path)}: no header line above its numbers (give a column "
                          "mapping with column numbers and units)")
     two = options.header_rows == 2 or (options.header_rows is None and len(above) >= 2
-                                       and _is_unit_row(_fields(lines[above[-1]], sep)))
+                                       and is_unit_row(_fields(lines[above[-1]], sep)))
     width = _numeric_row(lines[first].strip(), sep)
     if above:
         names = _fields(lines[above[-2] if two else above[-1]].strip().lstrip("#"), sep)
-        units = [_unit(u) or None for u in _fields(lines[above[-1]], sep)] if two else []
+        units = [clean_unit(u) or None for u in _fields(lines[above[-1]], sep)] if two else []
     else:
         names, units = [str(k + 1) for k in range(width)], []
     while names and not names[-1]:        # a trailing separator closes some headers
@@ -464,7 +466,7 @@ def read_delimited(path, options: ReadOptions | None = None) -> dict[str, LoadDi
         raise InputError(f"{shown(path)}: its header names {len(names)} columns but its rows "
                          f"hold {width} numbers")
     units = (units + [None] * width)[:width]
-    picked = _pick_columns(names, units, options, path)
+    picked = pick_columns(names, units, options, path)
     marks, body = _table(path, lines, first, sep, width, names, options)
     frame = pd.DataFrame(np.array(_values(body, marks), dtype=float).reshape(-1, width))
     meta = {"source": str(path), "format": "delimited", "separator": sep,

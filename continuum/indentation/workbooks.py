@@ -41,8 +41,8 @@ from filmscale.core.files import MAX_INPUT_BYTES_ENV, excerpt, input_limit, read
 
 from .curves import CHANNELS, HOLD, LOAD, SEGMENTS_FROM_FILE, UNLOAD, LoadDisplacementCurve
 from .tips import POLYNOMIAL_EXPONENTS
-from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, _is_unit_row,
-                      _pick_columns, _unit, si_unit, split_name)
+from .vendors import (ALIASES, SEGMENT_NAMES, ReadOptions, clean_unit, is_unit_row, pick_columns,
+                      si_unit, split_name)
 
 WORKBOOK_SUFFIXES = (".xls", ".xlsx", ".xlsm")
 #: values at or above this are the instrument's invalid-value marker (DBL_MAX)
@@ -405,11 +405,11 @@ def sheet_curve(rows, options: ReadOptions, source, meta) -> LoadDisplacementCur
     names = [c if isinstance(c, str) else "" for c in rows[header]]
     first = header + 1
     units = [None] * len(names)
-    if first < len(rows) and _is_unit_row(rows[first]):
-        units = [_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[first]]
+    if first < len(rows) and is_unit_row(rows[first]):
+        units = [clean_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[first]]
         units += [None] * (len(names) - len(units))
         first += 1
-    picked = _pick_columns(names, units, options, source)
+    picked = pick_columns(names, units, options, source)
     body = rows[first:]
     labels = [_label(n) for n in names]
     units = [u if u is not None else split_name(n)[1] for u, n in zip(units, names)]
@@ -459,9 +459,9 @@ HOLD_LOAD_TOLERANCE = 0.01
 def _hold_tails(codes: np.ndarray, P: np.ndarray) -> np.ndarray:
     """Marked holds cut where the load leaves them: NanoSuite marks the start of its thermal
     drift hold but not the final unloading after it, which the marker run then holds."""
-    from .curves import _runs
+    from .curves import segment_runs
     codes = codes.copy()
-    for label, start, stop in _runs(codes):
+    for label, start, stop in segment_runs(codes):
         if label != HOLD or stop - start < 3:
             continue
         level = float(np.median(P[start:stop]))
@@ -523,8 +523,8 @@ def summary_meta(sheets: dict[str, list[list]]) -> dict[int, dict]:
         names = [c if isinstance(c, str) else "" for c in rows[0]]
         first = 1
         units = [None] * len(names)
-        if _is_unit_row(rows[1]) or not any(isinstance(c, (int, float)) for c in rows[1]):
-            units = [_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[1]]
+        if is_unit_row(rows[1]) or not any(isinstance(c, (int, float)) for c in rows[1]):
+            units = [clean_unit(c) if isinstance(c, str) and c.strip() else None for c in rows[1]]
             first = 2
         units += [None] * (len(names) - len(units))
         for row in rows[first:]:

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, _derivative_kernel, unloading_start)
+from filmscale.continuum.indentation.curves import (LoadDisplacementCurve, derivative_kernel, unloading_start)
 from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.cycles import analyse_cycles
 from filmscale.continuum.indentation.oliver_pharr import oliver_pharr
@@ -74,7 +74,7 @@ def test_an_unloading_without_a_hold_starts_at_the_peak():
 def test_the_derivative_kernel_is_scipys_savitzky_golay():
     from scipy.signal import savgol_coeffs
     for window in (5, 7, 25, 101):
-        np.testing.assert_allclose(_derivative_kernel(window),
+        np.testing.assert_allclose(derivative_kernel(window),
                                    savgol_coeffs(window, 2, deriv=1, use="conv"), atol=1e-15)
 
 

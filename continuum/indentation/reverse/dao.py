@@ -28,18 +28,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from filmscale.continuum.indentation.reverse.functions import (_N_GRID, DAO_RATIO_RANGE, E_I_DAO,
+from filmscale.continuum.indentation.reverse.functions import (DAO_RATIO_RANGE, E_I_DAO,
                                                                HR_HM_VERIFIED, METHODS, N_RANGE,
-                                                               N_SENSITIVITY_LIMIT, N_STD_LIMIT,
-                                                               NU_I_DAO, WPWT_RANGE,
-                                                               _interpolation_note, _pi4_inverse,
-                                                               _pi5_inverse, _SharpCalibration,
-                                                               dao_pi1, dao_pi2, dao_pi4, dao_pi5,
+                                                               N_SEARCH_GRID, N_SENSITIVITY_LIMIT,
+                                                               N_STD_LIMIT, NU_I_DAO, WPWT_RANGE,
+                                                               SharpCalibration, dao_pi1, dao_pi2,
+                                                               dao_pi4, dao_pi4_inverse, dao_pi5,
+                                                               dao_pi5_inverse,
+                                                               interpolation_warnings,
                                                                loading_curvature,
                                                                representative_stress,
                                                                sharp_calibration)
-from filmscale.continuum.indentation.reverse.surrogate import _features, _surrogate
-from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _spread
+from filmscale.continuum.indentation.reverse.surrogate import deployed_surrogate, surrogate_features
+from filmscale.continuum.indentation.reverse.uncertainty import monte_carlo_draws, sample_std
 from filmscale.continuum.materials import modulus_from_reduced
 from filmscale.core.checks import MODULUS_MAX, check_choice, check_int, check_positive, check_real
 from filmscale.core.errors import InputError, ModelRangeError
@@ -55,15 +56,18 @@ def _check_indenter(nu, E_i, nu_i):
     return nu, E_i, nu_i
 
 
-def _check_WpWt(name, value):
+def check_work_ratio(name, value):
+    """W_p/W_t (or another work ratio) checked to lie in (0, 1)."""
     return check_real(name, value, low=0.0, high=1.0, low_open=True, high_open=True)
 
 
-def _check_std(name, value, unit=""):
+def check_std(name, value, unit=""):
+    """An input's standard deviation checked finite and >= 0."""
     return check_real(name, value, low=0.0, high=math.inf, high_open=True, unit=unit)
 
 
-def _indenter_compliance(E_i, nu_i):
+def indenter_compliance(E_i, nu_i):
+    """(1 - nu_i^2) / E_i, 1/Pa: the indenter's share of 1/E* (0 for E_i = inf)."""
     return (1.0 - nu_i**2) / E_i
 
 
@@ -94,7 +98,8 @@ def _fmt_value(v, fmt=".6g"):
     return "nan" if v is None or not np.isfinite(v) else format(v, fmt)
 
 
-def _summary_row(label, value, std, unit):
+def summary_row(label, value, std, unit):
+    """One line of a result's ``summary()``: label, value +- std in engineering units."""
     if value is None or not np.isfinite(value):
         return f"  {label:<12} nan {unit}".rstrip()
     return f"  {label:<12} {eng(value, unit, std=math.nan if std is None else std)}"
@@ -182,15 +187,15 @@ def dao_forward(E, nu, sigma_y, n, h_m, *, tip="berkovich", E_i=E_I_DAO, nu_i=NU
     if n > N_RANGE[1]:
         raise ModelRangeError(f"n = {n:g} exceeds {N_RANGE[1]:g}, the largest hardening "
                               "exponent of the Dao/Chollacoop FE calibration")
-    tip._require_calibration()
-    E_star = 1.0 / ((1.0 - nu**2) / E + _indenter_compliance(E_i, nu_i))
+    tip.require_calibration()
+    E_star = 1.0 / ((1.0 - nu**2) / E + indenter_compliance(E_i, nu_i))
     sigma_r = float(representative_stress(E, sigma_y, n, tip.eps_r))
     C, ok = loading_curvature(tip, E, E_star, sigma_y, n)
     if not ok:
         raise ModelRangeError(f"E*/sigma_r = {E_star / sigma_r:.4g} is outside the range where "
                               f"the Pi1 of tip {tip.name} holds")
     C = float(C)
-    warnings = list(_interpolation_note(tip))
+    warnings = list(interpolation_warnings(tip))
     nan = math.nan
     dPdh = A_m = p_ave = hr_hm = WpWt = nan
     if tip.dao_functions:
@@ -202,7 +207,7 @@ def dao_forward(E, nu, sigma_y, n, h_m, *, tip="berkovich", E_i=E_I_DAO, nu_i=NU
         if not 0.0 < p_ave / E_star < float(dao_pi4(0.0)):
             raise ModelRangeError(f"p_ave/E* = {p_ave / E_star:.4g} is outside (0, "
                                   f"{float(dao_pi4(0.0)):.4g}), the range of Pi4")
-        hr_hm = float(_pi4_inverse(p_ave / E_star))
+        hr_hm = float(dao_pi4_inverse(p_ave / E_star))
         WpWt = float(dao_pi5(hr_hm))
         warnings += _hr_warning(hr_hm)
     else:
@@ -238,7 +243,7 @@ _REASONS = {
 def _solve_n(x, target):
     """n on [0, 0.5] with Pi2(x, n) = target; flag 0 root, 1 at 0, 2 at 0.5 (no root)."""
     from scipy.optimize import elementwise
-    g = dao_pi2(x[:, None], _N_GRID[None, :]) - target[:, None]
+    g = dao_pi2(x[:, None], N_SEARCH_GRID[None, :]) - target[:, None]
     cross = g[:, :-1] * g[:, 1:] <= 0
     has = cross.any(axis=1)
     multi = (g[:, :-1] * g[:, 1:] < 0).sum(axis=1) > 1
@@ -247,7 +252,8 @@ def _solve_n(x, target):
     if has.any():
         i = np.argmax(cross[has], axis=1)
         res = elementwise.find_root(lambda k, xx, t: dao_pi2(xx, k) - t,
-                                    (_N_GRID[i], _N_GRID[i + 1]), args=(x[has], target[has]))
+                                    (N_SEARCH_GRID[i], N_SEARCH_GRID[i + 1]),
+                                    args=(x[has], target[has]))
         n[has] = res.x
         flag[has] = 0
     return n, flag, multi
@@ -260,13 +266,13 @@ def _n_sensitivity(x, n):
     h = 1e-4
     p = dao_pi2(x, n)
     slope = np.abs(dao_pi2(x, n + h) - dao_pi2(x, n - h)) / (2 * h)
-    grid = dao_pi2(np.asarray(x)[..., None], _N_GRID)
+    grid = dao_pi2(np.asarray(x)[..., None], N_SEARCH_GRID)
     span = grid.max(axis=-1) - grid.min(axis=-1)
     with np.errstate(divide="ignore"):
         return 0.01 * np.abs(p) * np.maximum(1.0 / slope, (N_RANGE[1] - N_RANGE[0]) / span)
 
 
-def _pi1_x(CE, tip: _SharpCalibration):
+def _pi1_x(CE, tip: SharpCalibration):
     """x = ln(E*/sigma_r) solving Pi1(x) e^(-x) = C/E* in the tip's range; NaN where none."""
     from scipy.optimize import elementwise
     lo, hi = tip.x_range
@@ -281,10 +287,10 @@ def _pi1_x(CE, tip: _SharpCalibration):
     return x
 
 
-def _closed_form_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
+def _closed_form_core(C, S, W, hm, c_star, tip: SharpCalibration, model=None):
     """Dao's reverse steps on arrays: E*, x, h_r/h_m, failure code, fallback mask."""
     reason = np.zeros(C.shape, dtype=int)
-    hr = _pi5_inverse(W)
+    hr = dao_pi5_inverse(W)
     reason[~np.isfinite(hr)] = 1
     with np.errstate(invalid="ignore", divide="ignore"):
         sqrt_A = c_star * C * hm**2 / (dao_pi4(hr) * S)
@@ -294,11 +300,11 @@ def _closed_form_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
     return E_star, x, hr, reason, np.zeros(C.shape, dtype=bool)
 
 
-def _surrogate_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
+def _surrogate_core(C, S, W, hm, c_star, tip: SharpCalibration, model=None):
     """The surrogate's E*; x from Dao's Pi1, or from the fallback regression of ln(sigma/C)
     where C/E* has no Pi1 root (flagged); h_r/h_m from Pi5 where it reaches."""
-    model = _surrogate() if model is None else model
-    pred = model.predict(_features(C, S, W, hm, c_star))
+    model = deployed_surrogate() if model is None else model
+    pred = model.predict(surrogate_features(C, S, W, hm, c_star))
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         E_star = np.exp(pred[:, 0]) * S / (hm * c_star)
         x = _pi1_x(C / E_star, tip)
@@ -306,10 +312,10 @@ def _surrogate_core(C, S, W, hm, c_star, tip: _SharpCalibration, model=None):
         x[fallback] = np.log(E_star[fallback] / (C[fallback] * np.exp(pred[fallback, 1])))
     # sigma_r at or above E* is no material: refuse rather than extrapolate that far
     reason = np.where(np.isfinite(E_star) & (E_star > 0) & np.isfinite(x) & (x > 0), 0, 6)
-    return E_star, x, _pi5_inverse(W), reason, fallback
+    return E_star, x, dao_pi5_inverse(W), reason, fallback
 
 
-def _reverse_arrays(C, S, W, hm, *, tip, c_star, nu, E_i, nu_i, method, model=None):
+def reverse_arrays(C, S, W, hm, *, tip, c_star, nu, E_i, nu_i, method, model=None):
     """Full single-tip reverse on 1-D arrays; NaN and a code where a case fails.
 
     ``model``: a trained surrogate other than the deployed one (cross-validation).
@@ -324,7 +330,7 @@ def _reverse_arrays(C, S, W, hm, *, tip, c_star, nu, E_i, nu_i, method, model=No
     with np.errstate(invalid="ignore", over="ignore"):
         sigma_r = E_star * np.exp(-x)
     reason[bad] = 4
-    E = modulus_from_reduced(E_star, nu, _indenter_compliance(E_i, nu_i))
+    E = modulus_from_reduced(E_star, nu, indenter_compliance(E_i, nu_i))
     reason[(reason == 0) & ~np.isfinite(E)] = 3
     good = reason == 0
     n = np.full(C.shape, np.nan)
@@ -345,8 +351,8 @@ def _reverse_arrays(C, S, W, hm, *, tip, c_star, nu, E_i, nu_i, method, model=No
     return out
 
 
-def _raise_reason(out, i, *, W, tip):
-    """ModelRangeError for the failure code of case i of a `_reverse_arrays` output."""
+def raise_reverse_failure(out, i, *, W, tip):
+    """ModelRangeError for the failure code of case i of a `reverse_arrays` output."""
     code = int(out["reason"][i])
     lo, hi = WPWT_RANGE
     xlo, xhi = tip.x_range
@@ -394,16 +400,18 @@ class ReverseResult:
     def summary(self) -> str:
         lines = [f"Sharp-indentation reverse analysis ({self.method}), tip {self.tip}"
                  + (f", {self.samples} samples" if self.samples else ""),
-                 _summary_row("E*", self.E_star, self.E_star_std, "Pa"),
-                 _summary_row("E", self.E, self.E_std, "Pa"),
-                 _summary_row(f"sigma_{self.eps_r:g}", self.sigma_r, self.sigma_r_std, "Pa"),
-                 _summary_row("n", self.n, self.n_std, ""),
-                 _summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa"),
+                 summary_row("E*", self.E_star, self.E_star_std, "Pa"),
+                 summary_row("E", self.E, self.E_std, "Pa"),
+                 summary_row(f"sigma_{self.eps_r:g}", self.sigma_r, self.sigma_r_std, "Pa"),
+                 summary_row("n", self.n, self.n_std, ""),
+                 summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa"),
                  f"  h_r/h_m      {_fmt_value(self.hr_hm, '.4f')}"]
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])
 
 
-def _reverse_setup(tip, c_star, nu, E_i, nu_i, method):
+def resolve_reverse_setup(tip, c_star, nu, E_i, nu_i, method):
+    """The checked (tip calibration, c*, nu, E_i, nu_i, method) of a single-tip reverse
+    analysis; a tip without Dao's Pi2, Pi4 and Pi5 is refused."""
     nu, E_i, nu_i = _check_indenter(nu, E_i, nu_i)
     method = check_choice("method", method, METHODS)
     tip = sharp_calibration(tip)
@@ -417,8 +425,9 @@ def _reverse_setup(tip, c_star, nu, E_i, nu_i, method):
     return tip, cs, nu, E_i, nu_i, method
 
 
-def _point_warnings(out, i, tip, method, *, C, S, W, hm, c_star, about_n=True) -> list[str]:
-    """Identifiability warnings of case i of a `_reverse_arrays` output (``about_n``: include
+def identifiability_warnings(out, i, tip, method, *, C, S, W, hm, c_star,
+                             about_n=True) -> list[str]:
+    """Identifiability warnings of case i of a `reverse_arrays` output (``about_n``: include
     those on the single-tip n)."""
     w = []
     x = out["x"][i]
@@ -431,7 +440,7 @@ def _point_warnings(out, i, tip, method, *, C, S, W, hm, c_star, about_n=True) -
             w.append(f"C/E* has no root of Pi1 with {rlo:g} < E*/sigma_r < {rhi:g}: sigma_r "
                      f"comes from the surrogate's direct regression (E*/sigma_r = {ratio:.4g}), "
                      "an extrapolation")
-        if not _surrogate().inside(_features(C, S, W, hm, c_star)[None, :]):
+        if not deployed_surrogate().inside(surrogate_features(C, S, W, hm, c_star)[None, :]):
             w.append("the inputs lie outside the FE training cases of the surrogate "
                      "(ln(c* C h_m/(dP/dh)), W_p/W_t hull): it extrapolates")
     if not about_n:
@@ -499,28 +508,28 @@ def dao_reverse(C, dPdh, WpWt, h_m, *, tip="berkovich", nu=0.3, E_i=E_I_DAO, nu_
     """
     C = check_positive("C", C, "Pa")
     S = check_positive("dPdh", dPdh, "N/m")
-    W = _check_WpWt("WpWt", WpWt)
+    W = check_work_ratio("WpWt", WpWt)
     hm = check_positive("h_m", h_m, "m")
-    stds = (_check_std("C_std", C_std, "Pa"), _check_std("dPdh_std", dPdh_std, "N/m"),
-            _check_std("WpWt_std", WpWt_std), _check_std("h_m_std", h_m_std, "m"))
+    stds = (check_std("C_std", C_std, "Pa"), check_std("dPdh_std", dPdh_std, "N/m"),
+            check_std("WpWt_std", WpWt_std), check_std("h_m_std", h_m_std, "m"))
     samples = check_int("samples", samples, 2, 10**7)
     seed = check_int("seed", seed, 0, 2**63 - 1)
-    tip, cs, nu, E_i, nu_i, method = _reverse_setup(tip, c_star, nu, E_i, nu_i, method)
+    tip, cs, nu, E_i, nu_i, method = resolve_reverse_setup(tip, c_star, nu, E_i, nu_i, method)
 
     def evaluate(c, s, w, h):
-        return _reverse_arrays(c, s, w, h, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
-                               method=method)
+        return reverse_arrays(c, s, w, h, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
+                              method=method)
 
     point = evaluate(C, S, W, hm)
     if point["reason"][0]:
-        _raise_reason(point, 0, W=W, tip=tip)
-    warnings = _point_warnings(point, 0, tip, method, C=C, S=S, W=W, hm=hm, c_star=cs)
+        raise_reverse_failure(point, 0, W=W, tip=tip)
+    warnings = identifiability_warnings(point, 0, tip, method, C=C, S=S, W=W, hm=hm, c_star=cs)
     keys = ("E_star", "sigma_r", "n", "sigma_y", "E")
     std = dict.fromkeys(keys, 0.0)
     used, used_seed = 0, None
     if any(stds):
-        draws, dropped = _monte_carlo(evaluate, (C, S, W, hm), stds, samples, seed)
-        std = {k: _spread(draws[k]) for k in keys}
+        draws, dropped = monte_carlo_draws(evaluate, (C, S, W, hm), stds, samples, seed)
+        std = {k: sample_std(draws[k]) for k in keys}
         used, used_seed = int(draws["E_star"].size), seed
         if dropped > 0:
             warnings.append(f"{dropped:.1%} of the Monte Carlo draws fell outside the model "
@@ -590,22 +599,22 @@ def dao_reverse_repeated(C, dPdh, WpWt, h_m, *, tip="berkovich", nu=0.3, E_i=E_I
                          f"{C.size}, {S.size}, {W.size}, {hm.size}")
     if C.size < 2:
         raise InputError(f"repeated indents need at least 2 indents, got {C.size}")
-    tip, cs, nu, E_i, nu_i, method = _reverse_setup(tip, c_star, nu, E_i, nu_i, method)
-    out = _reverse_arrays(C, S, W, hm, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
-                          method=method)
+    tip, cs, nu, E_i, nu_i, method = resolve_reverse_setup(tip, c_star, nu, E_i, nu_i, method)
+    out = reverse_arrays(C, S, W, hm, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
+                         method=method)
     warnings = []
     for i in range(C.size):
         if out["reason"][i]:
             try:
-                _raise_reason(out, i, W=W[i], tip=tip)
+                raise_reverse_failure(out, i, W=W[i], tip=tip)
             except ModelRangeError as err:
                 raise ModelRangeError(f"indent {i}: {err}") from None
-        warnings += [f"indent {i}: {w}" for w in _point_warnings(out, i, tip, method, C=C[i],
-                                                                  S=S[i], W=W[i], hm=hm[i],
-                                                                  c_star=cs)]
+        warnings += [f"indent {i}: {w}"
+                     for w in identifiability_warnings(out, i, tip, method, C=C[i], S=S[i],
+                                                       W=W[i], hm=hm[i], c_star=cs)]
     mean = {k: float(np.mean(out[k])) for k in ("E_star", "sigma_r", "n", "sigma_y", "E",
                                                   "hr_hm")}
-    std = {k: _spread(out[k]) for k in ("E_star", "sigma_r", "n", "sigma_y", "E")}
+    std = {k: sample_std(out[k]) for k in ("E_star", "sigma_r", "n", "sigma_y", "E")}
     if std["n"] > N_STD_LIMIT:
         warnings.append(f"n is poorly determined: its scatter across indents is {std['n']:.2g}")
     return ReverseResult(

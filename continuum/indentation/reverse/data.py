@@ -25,7 +25,7 @@ DATA_FILES = ("Berkovich.csv", "FEM_50deg.csv", "FEM_60deg.csv", "FEM_70deg.csv"
 
 
 @functools.cache
-def _packaged_table(name: str) -> dict:
+def cached_dao2001_table(name: str) -> dict:
     """Columns of a packaged file in SI by key, read-only (shared by every caller)."""
     source = resources.files("filmscale.continuum.indentation.reverse") / "data" / "dao2001"
     with resources.as_file(source / name) as path:
@@ -44,20 +44,20 @@ def dao2001_table(name: str) -> dict[str, np.ndarray]:
     sigma_0.033, sigma_0.066, sigma_0.1, n (Al6061.csv). Data: Lu et al. (2020), Apache-2.0.
     """
     check_choice("data file", name, DATA_FILES)
-    return {k: v.copy() for k, v in _packaged_table(name).items()}
+    return {k: v.copy() for k, v in cached_dao2001_table(name).items()}
 
 
 #: FE files with C, dP/dh and W_p/W_t, their tip and c*
-_FE_REVERSE_FILES = (("Berkovich.csv", "berkovich"), ("FEM_70deg.csv", "cone:70.3"))
+FE_REVERSE_FILES = (("Berkovich.csv", "berkovich"), ("FEM_70deg.csv", "cone:70.3"))
 
 
 @functools.cache
-def _fe_cases() -> dict:
+def fe_reverse_cases() -> dict:
     """Pooled FE cases usable for the reverse analysis, with true E* and sigma_0.033."""
     parts = {k: [] for k in ("file", "case", "tip", "c_star", "n", "E", "sigma_y", "C", "dPdh",
                              "WpWt")}
-    for name, tip in _FE_REVERSE_FILES:
-        t = _packaged_table(name)
+    for name, tip in FE_REVERSE_FILES:
+        t = cached_dao2001_table(name)
         m = t["C"].size
         parts["file"] += [name] * m
         parts["tip"] += [tip] * m

@@ -7,17 +7,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from filmscale.continuum.indentation.reverse.dao import (_check_std, _check_WpWt, _point_warnings,
-                                                         _raise_reason, _reverse_arrays,
-                                                         _reverse_setup, _summary_row,
-                                                         yield_strength)
-from filmscale.continuum.indentation.reverse.functions import (_N_GRID, E_I_DAO, N_RANGE,
+from filmscale.continuum.indentation.reverse.dao import (check_std, check_work_ratio,
+                                                         identifiability_warnings,
+                                                         raise_reverse_failure,
+                                                         resolve_reverse_setup, reverse_arrays,
+                                                         summary_row, yield_strength)
+from filmscale.continuum.indentation.reverse.functions import (E_I_DAO, N_RANGE, N_SEARCH_GRID,
                                                                N_STD_LIMIT, NU_I_DAO,
-                                                               _interpolation_note,
+                                                               interpolation_warnings,
                                                                loading_curvature,
                                                                representative_stress,
                                                                sharp_calibration)
-from filmscale.continuum.indentation.reverse.uncertainty import _monte_carlo, _spread
+from filmscale.continuum.indentation.reverse.uncertainty import monte_carlo_draws, sample_std
 from filmscale.core.checks import check_int, check_positive
 from filmscale.core.errors import ModelRangeError
 from filmscale.core.jsonable import to_jsonable
@@ -55,16 +56,16 @@ class DualResult:
     def summary(self) -> str:
         lines = [f"Dual-indenter reverse analysis ({self.method}), tips {self.tip} + {self.tip2}"
                  + (f", {self.samples} samples" if self.samples else ""),
-                 _summary_row("E*", self.E_star, self.E_star_std, "Pa"),
-                 _summary_row("E", self.E, self.E_std, "Pa"),
-                 _summary_row(f"sigma_{self.eps_r:.3g}", self.sigma_r, self.sigma_r_std, "Pa"),
-                 _summary_row(f"sigma_{self.eps_r2:.3g}", self.sigma_r2, self.sigma_r2_std, "Pa"),
-                 _summary_row("n", self.n, self.n_std, ""),
-                 _summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa")]
+                 summary_row("E*", self.E_star, self.E_star_std, "Pa"),
+                 summary_row("E", self.E, self.E_std, "Pa"),
+                 summary_row(f"sigma_{self.eps_r:.3g}", self.sigma_r, self.sigma_r_std, "Pa"),
+                 summary_row(f"sigma_{self.eps_r2:.3g}", self.sigma_r2, self.sigma_r2_std, "Pa"),
+                 summary_row("n", self.n, self.n_std, ""),
+                 summary_row("sigma_y", self.sigma_y, self.sigma_y_std, "Pa")]
         return "\n".join(lines + [f"  warning: {w}" for w in self.warnings])
 
 
-def _dual_arrays(single, C2, tip, tip2):
+def dual_reverse_arrays(single, C2, tip, tip2):
     """n and sigma_Y matching the second tip's C2, given the first tip's results (arrays).
 
     n is searched on [0, 0.5]: for each n, sigma_Y follows from sigma_r of the first tip, and
@@ -90,7 +91,7 @@ def _dual_arrays(single, C2, tip, tip2):
     if good.any():
         idx = np.flatnonzero(good)
         args = (E[idx, None], Es[idx, None], s1[idx, None], C2[idx, None])
-        kg = np.broadcast_to(_N_GRID, (idx.size, _N_GRID.size))
+        kg = np.broadcast_to(N_SEARCH_GRID, (idx.size, N_SEARCH_GRID.size))
         g = g_of(kg, *(np.broadcast_to(a, kg.shape) for a in args))
         finite = np.isfinite(g)
         none = ~finite.any(axis=1)
@@ -104,7 +105,7 @@ def _dual_arrays(single, C2, tip, tip2):
         if has.any():
             j = np.argmax(cross[has], axis=1)
             h = idx[has]
-            res = elementwise.find_root(g_of, (_N_GRID[j], _N_GRID[j + 1]),
+            res = elementwise.find_root(g_of, (N_SEARCH_GRID[j], N_SEARCH_GRID[j + 1]),
                                         args=(E[h], Es[h], s1[h], C2[h]))
             n[h] = res.x
             flag[h] = 0
@@ -130,7 +131,7 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
     sigma_r at the second tip's eps_r from its Pi1_theta, then sigma_Y and n from
     ln(sigma_0.033/sigma_Y) / ln(sigma_r/sigma_Y) = ln(1 + 0.033 E/sigma_Y) /
     ln(1 + eps_r E/sigma_Y) and n = ln(sigma_0.033/sigma_Y) / ln(1 + 0.033 E/sigma_Y)
-    (solved in n, see `_dual_arrays`). The tips' strains must differ: 50 or 60 deg
+    (solved in n, see `dual_reverse_arrays`). The tips' strains must differ: 50 or 60 deg
     (eps_r = 0.083, 0.056) pair best with the Berkovich.
 
     Parameters
@@ -157,28 +158,28 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
     """
     C = check_positive("C", C, "Pa")
     S = check_positive("dPdh", dPdh, "N/m")
-    W = _check_WpWt("WpWt", WpWt)
+    W = check_work_ratio("WpWt", WpWt)
     hm = check_positive("h_m", h_m, "m")
     C2 = check_positive("C2", C2, "Pa")
-    stds = (_check_std("C_std", C_std, "Pa"), _check_std("dPdh_std", dPdh_std, "N/m"),
-            _check_std("WpWt_std", WpWt_std), _check_std("h_m_std", h_m_std, "m"),
-            _check_std("C2_std", C2_std, "Pa"))
+    stds = (check_std("C_std", C_std, "Pa"), check_std("dPdh_std", dPdh_std, "N/m"),
+            check_std("WpWt_std", WpWt_std), check_std("h_m_std", h_m_std, "m"),
+            check_std("C2_std", C2_std, "Pa"))
     samples = check_int("samples", samples, 2, 10**7)
     seed = check_int("seed", seed, 0, 2**63 - 1)
-    tip, cs, nu, E_i, nu_i, method = _reverse_setup(tip, c_star, nu, E_i, nu_i, method)
+    tip, cs, nu, E_i, nu_i, method = resolve_reverse_setup(tip, c_star, nu, E_i, nu_i, method)
     tip2 = sharp_calibration(tip2)
-    tip2._require_calibration()
+    tip2.require_calibration()
     if abs(tip2.eps_r - tip.eps_r) < 1e-3:
         raise ModelRangeError(f"tips {tip.name} and {tip2.name} share eps_r = {tip.eps_r:.3g}: "
                               "the dual method needs different representative strains")
 
     def evaluate(c, s, w, h, c2):
-        single = _reverse_arrays(c, s, w, h, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
-                                 method=method)
+        single = reverse_arrays(c, s, w, h, tip=tip, c_star=cs, nu=nu, E_i=E_i, nu_i=nu_i,
+                                method=method)
         c2 = np.broadcast_to(np.atleast_1d(np.asarray(c2, dtype=float)), single["n"].shape)
         single["reason"] = np.where(c2 <= 0, 4, single["reason"])
-        out = _dual_arrays({k: single[k] for k in ("E_star", "sigma_r", "E", "reason")},
-                           np.where(c2 <= 0, 1.0, c2), tip, tip2)
+        out = dual_reverse_arrays({k: single[k] for k in ("E_star", "sigma_r", "E", "reason")},
+                                  np.where(c2 <= 0, 1.0, c2), tip, tip2)
         out["single"] = single
         return out
 
@@ -189,11 +190,11 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
         raise ModelRangeError(f"dual reverse: C2 = {C2:.6g} Pa is outside the Pi1 range of tip "
                               f"{tip2.name} for every n in [0, 0.5]")
     if code:
-        _raise_reason(single, 0, W=W, tip=tip)
+        raise_reverse_failure(single, 0, W=W, tip=tip)
     # the single-tip n is superseded by the dual one: only E* and sigma_r warnings apply
-    warnings = _point_warnings(single, 0, tip, method, C=C, S=S, W=W, hm=hm, c_star=cs,
-                               about_n=False)
-    warnings += list(_interpolation_note(tip2))
+    warnings = identifiability_warnings(single, 0, tip, method, C=C, S=S, W=W, hm=hm,
+                                        c_star=cs, about_n=False)
+    warnings += list(interpolation_warnings(tip2))
     if point["flag"][0]:
         bound = N_RANGE[point["flag"][0] - 1]
         warnings.append(f"no n in [{N_RANGE[0]:g}, {N_RANGE[1]:g}] matches C2: n is set to "
@@ -207,8 +208,8 @@ def dual_reverse(C, dPdh, WpWt, h_m, C2, *, tip2, tip="berkovich", nu=0.3, E_i=E
             out = evaluate(*a)
             out.pop("single")
             return out
-        draws, dropped = _monte_carlo(evaluate_mc, (C, S, W, hm, C2), stds, samples, seed)
-        std = {k: _spread(draws[k]) for k in keys}
+        draws, dropped = monte_carlo_draws(evaluate_mc, (C, S, W, hm, C2), stds, samples, seed)
+        std = {k: sample_std(draws[k]) for k in keys}
         used, used_seed = int(draws["n"].size), seed
         if dropped > 0:
             warnings.append(f"{dropped:.1%} of the Monte Carlo draws fell outside the model "

@@ -71,7 +71,8 @@ SURROGATE_FALLBACK = (1, 0.1)
 
 METHODS = ("closed-form", "surrogate")
 SELECTIONS = ("nested", "fixed")
-_N_GRID = np.linspace(N_RANGE[0], N_RANGE[1], 51)
+#: grid of n on which the reverse analyses bracket their roots in n before refining them
+N_SEARCH_GRID = np.linspace(N_RANGE[0], N_RANGE[1], 51)
 
 
 # --- the dimensionless functions ------------------------------------------------------------
@@ -119,12 +120,12 @@ def dao_pi5(hr_hm):
 WPWT_RANGE = (float(dao_pi5(0.0)), float(dao_pi5(PI4_R0)))
 
 
-def _pi4_inverse(p_over_E):
+def dao_pi4_inverse(p_over_E):
     """h_r/h_m from p_ave/E* (Pi4 inverted in closed form)."""
     return PI4_R0 - np.power(p_over_E / PI4_A, 1.0 / PI4_P)
 
 
-def _pi5_inverse(WpWt):
+def dao_pi5_inverse(WpWt):
     """h_r/h_m from W_p/W_t (Pi5 is increasing on [0, R0]); NaN outside WPWT_RANGE."""
     from scipy.optimize import elementwise
     WpWt = np.asarray(WpWt, dtype=float)
@@ -155,7 +156,7 @@ def _pi1_range(coeffs) -> tuple[float, float]:
 # --- tips and their calibration -------------------------------------------------------------
 
 @dataclass(frozen=True)
-class _SharpCalibration:
+class SharpCalibration:
     """A sharp tip resolved for the numeric code: its Pi1 calibration, c*, and whether Dao's
     Pi2, Pi4 and Pi5 apply. Built by `sharp_calibration` from a `Cone`.
 
@@ -182,7 +183,8 @@ class _SharpCalibration:
         """Pi1 interpolated between tabulated angles (no coefficients of its own)."""
         return self.pi1 is None and ANGLE_RANGE[0] <= self.theta <= ANGLE_RANGE[1]
 
-    def _require_calibration(self):
+    def require_calibration(self):
+        """Raise ModelRangeError unless the tip has (or can interpolate) a Pi1 calibration."""
         if self.eps_r is None or (self.pi1 is None and not self.interpolated):
             raise ModelRangeError(
                 f"tip {self.name} ({self.theta:g} deg) has no Pi1 calibration: the Chollacoop "
@@ -190,13 +192,13 @@ class _SharpCalibration:
                 "pi1 (dataclasses.replace(tip, eps_r=..., pi1=(A, B, C, D)))")
 
 
-def _tabulated_tips() -> dict[float, _SharpCalibration]:
-    tips = {BERKOVICH_ANGLE: _SharpCalibration(f"cone:{BERKOVICH_ANGLE:g}", BERKOVICH_ANGLE,
-                                               EPS_R_DAO, PI1_DAO, C_STAR_CONE,
-                                               tuple(math.log(r) for r in DAO_RATIO_RANGE), True)}
+def _tabulated_tips() -> dict[float, SharpCalibration]:
+    tips = {BERKOVICH_ANGLE: SharpCalibration(f"cone:{BERKOVICH_ANGLE:g}", BERKOVICH_ANGLE,
+                                              EPS_R_DAO, PI1_DAO, C_STAR_CONE,
+                                              tuple(math.log(r) for r in DAO_RATIO_RANGE), True)}
     for theta, coeffs in PI1_THETA.items():
-        tips[theta] = _SharpCalibration(f"cone:{theta:g}", theta,
-                                        float(representative_strain(theta)), coeffs, C_STAR_CONE)
+        tips[theta] = SharpCalibration(f"cone:{theta:g}", theta,
+                                       float(representative_strain(theta)), coeffs, C_STAR_CONE)
     return dict(sorted(tips.items()))
 
 
@@ -237,7 +239,7 @@ def sharp_tip(spec) -> Cone:
     return tip
 
 
-def sharp_calibration(tip) -> _SharpCalibration:
+def sharp_calibration(tip) -> SharpCalibration:
     """The calibration the reverse analysis uses for ``tip`` (text or `Cone`): the tip's own
     eps_r, pi1 and c_star where given, the published ones for its angle elsewhere.
 
@@ -248,7 +250,7 @@ def sharp_calibration(tip) -> _SharpCalibration:
     ModelRangeError
         A truncated cone (tip_radius > 0): the Dao functions hold for sharp tips.
     """
-    if isinstance(tip, _SharpCalibration):
+    if isinstance(tip, SharpCalibration):
         return tip
     cone = sharp_tip(tip)
     if cone.tip_radius > 0:
@@ -260,10 +262,10 @@ def sharp_calibration(tip) -> _SharpCalibration:
     elif theta in _TABULATED:
         base = _TABULATED[theta]
     elif ANGLE_RANGE[0] <= theta <= ANGLE_RANGE[1]:
-        base = _SharpCalibration(cone.spec, theta, float(representative_strain(theta)), None,
-                                 C_STAR_CONE)
+        base = SharpCalibration(cone.spec, theta, float(representative_strain(theta)), None,
+                                C_STAR_CONE)
     else:
-        base = _SharpCalibration(cone.spec, theta)
+        base = SharpCalibration(cone.spec, theta)
     own = cone.pi1 is not None
     return replace(base, name=cone.spec, theta=theta,
                    eps_r=base.eps_r if cone.eps_r is None else cone.eps_r,
@@ -271,7 +273,7 @@ def sharp_calibration(tip) -> _SharpCalibration:
                    c_star=base.c_star if cone.c_star is None else cone.c_star)
 
 
-def _direct_curvature(tip: _SharpCalibration, E, E_star, sigma_y, n):
+def _direct_curvature(tip: SharpCalibration, E, E_star, sigma_y, n):
     s = representative_stress(E, sigma_y, n, tip.eps_r)
     x = np.log(E_star / s)
     ok = (x >= tip.x_range[0]) & (x <= tip.x_range[1])
@@ -302,7 +304,7 @@ def loading_curvature(tip, E, E_star, sigma_y, n):
         Hardening exponent.
     """
     tip = sharp_calibration(tip)
-    tip._require_calibration()
+    tip.require_calibration()
     if not tip.interpolated:
         return _direct_curvature(tip, E, E_star, sigma_y, n)
     ta, tb = _neighbours(tip.theta)
@@ -322,7 +324,8 @@ def _neighbours(theta) -> tuple[float, float]:
     return angles[hi - 1], angles[hi]
 
 
-def _interpolation_note(tip: _SharpCalibration) -> tuple[str, ...]:
+def interpolation_warnings(tip: SharpCalibration) -> tuple[str, ...]:
+    """The warning that ``tip``'s Pi1 is interpolated between tabulated angles (or none)."""
     if not tip.interpolated:
         return ()
     ta, tb = _neighbours(tip.theta)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import Delaunay
 
-from filmscale.continuum.indentation.reverse.data import _fe_cases
+from filmscale.continuum.indentation.reverse.data import fe_reverse_cases
 from filmscale.continuum.indentation.reverse.functions import (SURROGATE_DEGREES,
                                                                SURROGATE_FALLBACK, SURROGATE_RIDGES,
                                                                SURROGATE_SELECTION_FOLDS,
@@ -20,7 +20,7 @@ from filmscale.continuum.indentation.reverse.functions import (SURROGATE_DEGREES
 
 # --- surrogate --------------------------------------------------------------------------------
 
-def _features(C, S, W, hm, c_star):
+def surrogate_features(C, S, W, hm, c_star):
     """Surrogate inputs: ln(c* C h_m / (dP/dh)) and W_p/W_t (c* takes out the tip's shape)."""
     C, S, W, hm = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (C, S, W, hm)))
     return np.stack([np.log(c_star * C * hm / S), W], axis=-1)
@@ -63,7 +63,7 @@ class _PolyRidge:
         return _design((F - self.mean) / self.scale, self.degree) @ self.coef
 
 
-def _group_folds(groups, k, seed):
+def grouped_folds(groups, k, seed):
     """Fold index per case: whole groups shuffled by ``seed`` (int or int sequence), dealt
     round-robin."""
     rng = np.random.default_rng(seed)
@@ -73,7 +73,7 @@ def _group_folds(groups, k, seed):
     return fold_of[groups]
 
 
-def _select(F, y, groups, seed):
+def select_hyperparameters(F, y, groups, seed):
     """(degree, ridge) minimising the median |relative error| of exp(y) in grouped 5-fold CV,
     averaged over SURROGATE_SELECTION_REPEATS splits (seeds [seed, r]) to steady the choice.
 
@@ -83,7 +83,7 @@ def _select(F, y, groups, seed):
     grid = [(d, r) for d in SURROGATE_DEGREES for r in SURROGATE_RIDGES]
     score = np.zeros(len(grid))
     for rep in range(SURROGATE_SELECTION_REPEATS):
-        folds = _group_folds(groups, SURROGATE_SELECTION_FOLDS, [seed, rep])
+        folds = grouped_folds(groups, SURROGATE_SELECTION_FOLDS, [seed, rep])
         pred = np.empty((len(grid), y.size))
         for f in range(SURROGATE_SELECTION_FOLDS):
             te = folds == f
@@ -111,32 +111,34 @@ class _Surrogate:
         return bool(np.all(self.hull.find_simplex(np.atleast_2d(F)) >= 0))
 
 
-def _train(F, Y, groups, seed, hyper=None) -> _Surrogate:
+def train_surrogate(F, Y, groups, seed, hyper=None) -> _Surrogate:
     """Fit on (F, Y); ``hyper`` = (degree, ridge) of the E* polynomial, else selected."""
     if hyper is None:
-        hyper = _select(F, Y[:, 0], groups, seed)
+        hyper = select_hyperparameters(F, Y[:, 0], groups, seed)
     return _Surrogate((_PolyRidge.fit(F, Y[:, 0], *hyper),
                        _PolyRidge.fit(F, Y[:, 1], *SURROGATE_FALLBACK)), Delaunay(F))
 
 
-def _fe_design():
-    d = _fe_cases()
-    F = _features(d["C"], d["dPdh"], d["WpWt"], d["h_m"], d["c_star"])
+def fe_training_data():
+    """(FE cases, surrogate features, targets) of the packaged FE cases the surrogate is
+    trained and cross-validated on."""
+    d = fe_reverse_cases()
+    F = surrogate_features(d["C"], d["dPdh"], d["WpWt"], d["h_m"], d["c_star"])
     Y = _targets(d["E_star"], d["sigma_r"], d["C"], d["dPdh"], d["h_m"], d["c_star"])
     return d, F, Y
 
 
 @functools.cache
-def _surrogate() -> _Surrogate:
+def deployed_surrogate() -> _Surrogate:
     """The deployed surrogate: all FE cases, hyper-parameters by repeated grouped 5-fold CV."""
-    d, F, Y = _fe_design()
-    return _train(F, Y, d["group"], SURROGATE_SELECTION_SEED)
+    d, F, Y = fe_training_data()
+    return train_surrogate(F, Y, d["group"], SURROGATE_SELECTION_SEED)
 
 
 def surrogate_hyperparameters() -> dict:
     """Degree and ridge of the deployed surrogate's E* polynomial and of the fallback
     regression of sigma_0.033, and the number of training cases."""
-    s = _surrogate()
+    s = deployed_surrogate()
     return {"E_star": {"degree": s.models[0].degree, "ridge": s.models[0].ridge},
             "sigma_r_fallback": {"degree": s.models[1].degree, "ridge": s.models[1].ridge},
             "cases": int(s.hull.points.shape[0])}

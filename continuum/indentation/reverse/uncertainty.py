@@ -9,7 +9,7 @@ import numpy as np
 
 # --- uncertainty ------------------------------------------------------------------------------
 
-def _monte_carlo(evaluate, means, stds, samples, seed):
+def monte_carlo_draws(evaluate, means, stds, samples, seed):
     """Evaluate on Gaussian draws of the inputs; returns (outputs of valid draws, dropped share).
 
     Common random numbers: one standard-normal matrix from ``seed`` scaled by each std, so the
@@ -23,5 +23,6 @@ def _monte_carlo(evaluate, means, stds, samples, seed):
     return {k: v[good] for k, v in out.items()}, 1.0 - good.mean()
 
 
-def _spread(values):
+def sample_std(values):
+    """Sample standard deviation (ddof = 1) of ``values``; NaN for fewer than two."""
     return float(np.std(values, ddof=1)) if values.size > 1 else math.nan

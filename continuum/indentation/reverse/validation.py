@@ -9,16 +9,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from filmscale.continuum.indentation.reverse.dao import (_indenter_compliance, _reverse_arrays,
-                                                         dao_forward)
-from filmscale.continuum.indentation.reverse.data import (_FE_REVERSE_FILES, _fe_cases,
-                                                          _packaged_table)
-from filmscale.continuum.indentation.reverse.dual import _dual_arrays
+from filmscale.continuum.indentation.reverse.dao import (dao_forward, indenter_compliance,
+                                                         reverse_arrays)
+from filmscale.continuum.indentation.reverse.data import (FE_REVERSE_FILES, cached_dao2001_table,
+                                                          fe_reverse_cases)
+from filmscale.continuum.indentation.reverse.dual import dual_reverse_arrays
 from filmscale.continuum.indentation.reverse.functions import (C_STAR_BERKOVICH, E_I_DAO, FE_DEPTH,
                                                                FE_NU, METHODS, NU_I_DAO, SELECTIONS,
                                                                loading_curvature, sharp_calibration)
-from filmscale.continuum.indentation.reverse.surrogate import (_fe_design, _group_folds, _select,
-                                                               _surrogate, _train)
+from filmscale.continuum.indentation.reverse.surrogate import (deployed_surrogate, fe_training_data,
+                                                               grouped_folds,
+                                                               select_hyperparameters,
+                                                               train_surrogate)
 from filmscale.core.checks import check_choice, check_int
 from filmscale.core.jsonable import to_jsonable
 
@@ -103,9 +105,9 @@ def _fe_reverse(d, method, rows=None, model=None):
         tip = sharp_calibration(str(tip_name))
         sel = d["tip"][rows] == tip_name
         r_ = rows[sel]
-        r = _reverse_arrays(d["C"][r_], d["dPdh"][r_], d["WpWt"][r_], d["h_m"][r_], tip=tip,
-                            c_star=tip.c_star, nu=FE_NU, E_i=math.inf, nu_i=0.0, method=method,
-                            model=model)
+        r = reverse_arrays(d["C"][r_], d["dPdh"][r_], d["WpWt"][r_], d["h_m"][r_], tip=tip,
+                           c_star=tip.c_star, nu=FE_NU, E_i=math.inf, nu_i=0.0, method=method,
+                           model=model)
         for k in out:
             out[k][sel] = r[k]
     return out
@@ -139,20 +141,20 @@ def cross_validate(k: int = 5, seed: int = 0, selection: str = "nested") -> Cros
 
 @functools.cache
 def _cross_validate(k, seed, selection) -> CrossValidation:
-    d, F, Y = _fe_design()
-    folds = _group_folds(d["group"], k, seed)
+    d, F, Y = fe_training_data()
+    folds = grouped_folds(d["group"], k, seed)
     closed = _errors(_fe_reverse(d, "closed-form"), d)
     sur = {key: np.full(d["C"].size, np.nan) for key in closed}
-    deployed = _surrogate()
+    deployed = deployed_surrogate()
     hyper_all = []
     for f in range(k):
         te, tr = folds == f, folds != f
         if selection == "nested":
-            hyper = _select(F[tr], Y[tr, 0], d["group"][tr], seed + 1 + f)
+            hyper = select_hyperparameters(F[tr], Y[tr, 0], d["group"][tr], seed + 1 + f)
         else:
             hyper = (deployed.models[0].degree, deployed.models[0].ridge)
         hyper_all.append(hyper)
-        model = _train(F[tr], Y[tr], d["group"][tr], seed, hyper)
+        model = train_surrogate(F[tr], Y[tr], d["group"][tr], seed, hyper)
         rows = np.flatnonzero(te)
         for key, v in _errors(_fe_reverse(d, "surrogate", rows, model), d, rows).items():
             sur[key][rows] = v
@@ -191,7 +193,7 @@ def _forward_errors(table, tip, h_m, nu, E_i, nu_i):
     """Relative errors of the forward C (and dP/dh, absolute W_p/W_t) against a data file."""
     tip = sharp_calibration(tip)
     E, sy, n = table["E"], table["sigma_y"], table["n"]
-    E_star = 1.0 / ((1.0 - nu**2) / E + _indenter_compliance(E_i, nu_i))
+    E_star = 1.0 / ((1.0 - nu**2) / E + indenter_compliance(E_i, nu_i))
     C, ok = loading_curvature(tip, E, E_star, sy, n)
     out = {"C": np.where(ok, C / table["C"] - 1.0, np.nan)}
     if tip.dao_functions and "dPdh" in table:
@@ -205,12 +207,12 @@ def _forward_errors(table, tip, h_m, nu, E_i, nu_i):
 
 @functools.cache
 def _fe_error_rows() -> tuple:
-    d = _fe_cases()
+    d = fe_reverse_cases()
     cv = _cross_validate(5, 0, "nested")
     rows = []
-    for name, tip in _FE_REVERSE_FILES:
+    for name, tip in FE_REVERSE_FILES:
         sel = d["file"] == name
-        fwd = _forward_errors(_packaged_table(name), tip, FE_DEPTH, FE_NU, math.inf, 0.0)
+        fwd = _forward_errors(cached_dao2001_table(name), tip, FE_DEPTH, FE_NU, math.inf, 0.0)
         rows.append(_row(name, tip, "closed-form", sel.sum(), **fwd,
                          E_star=cv.closed_E_star[sel], sigma_r=cv.closed_sigma_r[sel],
                          n=cv.closed_n[sel], sigma_y=cv.closed_sigma_y[sel]))
@@ -219,34 +221,34 @@ def _fe_error_rows() -> tuple:
                          n=cv.surrogate_n[sel], sigma_y=cv.surrogate_sigma_y[sel]))
     for name, tip in (("FEM_50deg.csv", "cone:50"), ("FEM_60deg.csv", "cone:60"),
                       ("FEM_80deg.csv", "cone:80")):
-        t = _packaged_table(name)
+        t = cached_dao2001_table(name)
         rows.append(_row(name, tip, "closed-form", t["C"].size,
                          **_forward_errors(t, tip, FE_DEPTH, FE_NU, math.inf, 0.0)))
     # dual indenter: 70.3 deg cone + a second cone on the same FE materials
-    t70 = _packaged_table("FEM_70deg.csv")
+    t70 = cached_dao2001_table("FEM_70deg.csv")
     key70 = {tuple(np.round([a, b / 1e9, c / 1e9], 4)): i
              for i, (a, b, c) in enumerate(zip(t70["n"], t70["E"], t70["sigma_y"]))}
     tip1 = sharp_calibration("cone:70.3")
     for name, tip2 in (("FEM_50deg.csv", "cone:50"), ("FEM_60deg.csv", "cone:60"),
                        ("FEM_80deg.csv", "cone:80")):
-        t2 = _packaged_table(name)
+        t2 = cached_dao2001_table(name)
         i70 = np.array([key70[tuple(np.round([a, b / 1e9, c / 1e9], 4))]
                         for a, b, c in zip(t2["n"], t2["E"], t2["sigma_y"])])
-        single = _reverse_arrays(t70["C"][i70], t70["dPdh"][i70], t70["WpWt"][i70], FE_DEPTH,
-                                 tip=tip1, c_star=tip1.c_star, nu=FE_NU, E_i=math.inf,
-                                 nu_i=0.0, method="closed-form")
-        dual = _dual_arrays(single, t2["C"], tip1, sharp_calibration(tip2))
+        single = reverse_arrays(t70["C"][i70], t70["dPdh"][i70], t70["WpWt"][i70], FE_DEPTH,
+                                tip=tip1, c_star=tip1.c_star, nu=FE_NU, E_i=math.inf,
+                                nu_i=0.0, method="closed-form")
+        dual = dual_reverse_arrays(single, t2["C"], tip1, sharp_calibration(tip2))
         rows.append(_row(f"FEM_70deg.csv + {name}", f"cone:70.3 + {tip2}", "closed-form dual",
                          i70.size, n=dual["n"] - t2["n"],
                          sigma_y=dual["sigma_y"] / t2["sigma_y"] - 1.0))
-    al = _packaged_table("Al6061.csv")
+    al = cached_dao2001_table("Al6061.csv")
     E_al, nu_al = 66.8e9, 0.33      # Al6061 README: these reproduce E* = 70.2 GPa
     al_fwd = {"C": [dao_forward(E_al, nu_al, s, k, h).C / c - 1.0
                     for s, k, h, c in zip(al["sigma_y"], al["n"], al["h_m"], al["C"])]}
     for method in METHODS:
-        r = _reverse_arrays(al["C"], al["dPdh"], al["WpWt"], al["h_m"],
-                            tip=sharp_calibration("berkovich"), c_star=C_STAR_BERKOVICH, nu=nu_al,
-                            E_i=E_I_DAO, nu_i=NU_I_DAO, method=method)
+        r = reverse_arrays(al["C"], al["dPdh"], al["WpWt"], al["h_m"],
+                           tip=sharp_calibration("berkovich"), c_star=C_STAR_BERKOVICH, nu=nu_al,
+                           E_i=E_I_DAO, nu_i=NU_I_DAO, method=method)
         rows.append(_row("Al6061.csv", "berkovich", method, al["C"].size,
                          **(al_fwd if method == "closed-form" else {}),
                          E_star=r["E_star"] / al["E_star"] - 1.0,

@@ -40,6 +40,8 @@ from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError, ModelRangeError
 
 from .brackets import find_maximum, find_root
+from .events import (Event, HistoryOptions, PiecewiseRun, Stop, check_history_options,
+                     sampled_maximum)
 from .hertz import HERTZ_DURATION_FACTOR, elastic_impact
 from .profiles import DepthProfile, checked_bodies
 from .quadrature import cumulative_matrix_unit, gauss_legendre_unit, integrate
@@ -52,7 +54,6 @@ _GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
 # the rest of the path): deeper octaves only cost time
 _TIME_OCTAVES = 5
 _SCAN_PER_OCTAVE = 4   # severity scan for breakpoints in depth-dependent targets
-_T_BOUND = 1e6        # integration limit in units of delta_ref / V (events end it earlier)
 _BLOCK = 1024         # fast-path points solved together
 
 
@@ -234,7 +235,7 @@ class ImpactModel:
 
         ``progress(done, total)``, if given, is called after each block of points.
         """
-        V, R, m = _impact_inputs(velocity, radius, mass)
+        V, R, m = impact_inputs(velocity, radius, mass)
         shape = V.shape
         V, R, m = V.ravel(), R.ravel(), m.ravel()
         energy = 0.5 * m * V**2
@@ -428,7 +429,7 @@ class ImpactModel:
     def first_yield(self, radius, mass):
         """(approach, velocity) at first yield for each broadcast (R, m), in m and m/s; inf
         where yield is not reached before delta = R."""
-        _, R, m = _impact_inputs(1.0, radius, mass)
+        _, R, m = impact_inputs(1.0, radius, mass)
         inv, bp, _, _, _, yield_work = self._tables(R.ravel())
         approach = bp[:, 0][inv].reshape(R.shape)
         return approach, np.sqrt(2.0 * yield_work[inv].reshape(R.shape) / m)
@@ -437,7 +438,9 @@ class ImpactModel:
 
     def history(self, velocity, radius, mass, *, rtol=1e-8, gap=0.0, samples=400,
                 method="DOP853") -> ImpactHistory:
-        """One impact integrated in time with solve_ivp and events.
+        """One impact integrated in time with solve_ivp and events (`events`): a free flight
+        to contact, loading pieces that end at the law's regime thresholds and at maximum
+        approach, and the unloading to separation.
 
         Parameters
         ----------
@@ -450,198 +453,200 @@ class ImpactModel:
             Initial distance to the surface, m: the sphere flies freely until the contact event.
         samples : int
             Points of dense output per phase in the returned histories.
+        method : str
+            A `scipy.integrate.solve_ivp` method.
         """
-        from scipy.integrate import solve_ivp
-        from scipy.optimize import brentq, minimize_scalar
-        V, R, m = (float(x) for x in _impact_inputs(velocity, radius, mass))
-        rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
-        check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
-        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
-            raise InputError(f"samples = {samples!r} must be an integer >= 2")
+        V, R, m = (float(x) for x in impact_inputs(velocity, radius, mass))
+        options = check_history_options(rtol, samples, method)
         gap = check_real("gap", gap, low=0.0, high=math.inf, high_open=True, unit="m")
-        law = self.law
-        thr = law.thresholds
-        # scales: the Hertz impact against the surface's modulus
-        d_ref = float(elastic_impact(m, R, V, self.properties(0.0, R)[0]).delta_max)
-        t_ref = d_ref / V
-        accel = d_ref / (m * V * V)
-        if self.target.uniform:
-            e0, s0, n0 = (float(p) for p in self.properties(0.0, R))
-
-            def force_area(d, b):
-                return law.force_area(d, R, e0, s0, n0, b)
-
-            def severity(d):
-                return law.severity(d, R, e0, s0, n0)
-        else:
-            def force_area(d, b):
-                return self._force_area(d, R, b)
-
-            def severity(d):
-                return self._severity(d, R)
-
-        nfev = [0]
-
-        def depth(y):
-            """Approach in m, held in [0, R]: trial steps past R (the terminal event) or
-            before contact never reach the law."""
-            return min(max(y[0] * d_ref, 0.0), R)
-
-        def rhs_loading(branch):
-            def rhs(_, y):
-                nfev[0] += 1
-                return [y[1], -float(force_area(depth(y), branch)[0]) * accel]
-            return rhs
-
-        def event(fun, direction):
-            fun.terminal, fun.direction = True, direction
-            return fun
-
-        pieces, events = [], {}   # pieces: (dense solution, phase, branch, t_start, t_end)
-        y0, t0 = np.array([-gap / d_ref, 1.0]), 0.0
-        options = dict(method=method, rtol=rtol, atol=rtol * 1e-3, dense_output=True)
-        if gap > 0:
-            sol = solve_ivp(lambda t, y: [y[1], 0.0], (0.0, _T_BOUND), y0,
-                            events=[event(lambda t, y: y[0], 1)], **options)
-            t_end = sol.t_events[0][0]
-            pieces.append((sol, 0, 0, t0, t_end))
-            t0, y0 = t_end, sol.y_events[0][0]
-        events["contact"] = t0 * t_ref
-        branch = 0
-        left_limits = []
-        while True:
-            evs = [event(lambda t, y: y[1], -1),
-                   event(lambda t, y: y[0] - R / d_ref, 1)]
-            if branch < len(thr):
-                level = thr[branch]
-                evs.append(event(lambda t, y: float(severity(depth(y))) - level, 1))
-            sol = solve_ivp(rhs_loading(branch), (t0, t0 + _T_BOUND), y0, events=evs, **options)
-            hit = [k for k, te in enumerate(sol.t_events) if te.size]
-            if not hit or sol.status < 0:
-                raise ModelRangeError("time integration stopped without an event: "
-                                      f"{sol.message}")
-            i = min(hit, key=lambda k: sol.t_events[k][0])
-            t_end, y_end = sol.t_events[i][0], sol.y_events[i][0].copy()
-            if i == 0 and branch < len(thr):
-                # a threshold crossed and left again inside the step holding the maximum
-                # shows no sign change at the step ends: find it on the dense output
-                def above(t, sol=sol, level=thr[branch]):
-                    return float(severity(depth(sol.sol(t)))) - level
-                if above(t_end) >= 0:
-                    t_below = max(t for t in sol.t if t < t_end and above(t) < 0)
-                    t_end = brentq(above, t_below, t_end, xtol=1e-15 * t_end)
-                    y_end, i = sol.sol(t_end), 2
-            pieces.append((sol, 1, branch, t0, t_end))
-            t0, y0 = t_end, y_end
-            if i == 0:
-                break
-            if i == 1:
-                raise ModelRangeError(exceeds_radius_message(V, R, m))
-            left_limits.append((y0[0] * d_ref, branch))
-            events[f"regime {law.regime_names[branch + 1]}"] = t0 * t_ref
-            branch += 1
-        d_max = y0[0] * d_ref
-        events["maximum approach"] = t0 * t_ref
-        f_end, a_end = (float(v) for v in force_area(d_max, branch))
-        e_max = float(self.properties(d_max, R)[0])
+        run = _SphereIntegration(self, V, R, m, options, gap)
+        branch, left_limits = run.loading()
+        d_max = run.pieces.y[0] * run.d_ref
+        f_end, a_end = (float(v) for v in run.force_area(d_max, branch))
         yield_approach, yield_velocity = (float(v) for v in self.first_yield(R, m))
-        unl = unload(self.unloading, delta_max=d_max, force_max=f_end, area_max=a_end,
-                     E_star=e_max, R=R, yield_approach=yield_approach)
-        elastic, beyond_fit = _unloading_case(branch < law.reversible_branches, unl)
+        elastic, beyond_fit, residual, state, e_y, t_sep = run.unloading(
+            branch, d_max, f_end, a_end, yield_approach)
+        time, delta, vel, phase, branch_arr = run.pieces.sample(run.t_ref, run.d_ref, V)
+        force, area = run.sampled_force_area(delta, phase, branch_arr, state)
+        maxima = run.loading_maxima(f_end, a_end, left_limits)
+        # the integrated rebound speed carries the integrator's error: allow 100 rtol
+        status = int(_impact_status(elastic, beyond_fit, residual, d_max, e_y,
+                                    100 * options.rtol))
+        events, t_sep = run.events, t_sep * run.t_ref
+        contact_radius_max = math.sqrt(maxima["area_max"] / math.pi)
+        result = ImpactResult(
+            velocity=V, radius=R, mass=m, delta_max=d_max, force_max=maxima["force_max"],
+            mean_pressure_max=maxima["mean_pressure_max"], contact_radius_max=contact_radius_max,
+            contact_time=t_sep - events["contact"],
+            loading_time=events["maximum approach"] - events["contact"],
+            unloading_time=t_sep - events["maximum approach"],
+            residual_depth=residual, restitution=e_y, rebound_velocity=e_y * V,
+            yielded=branch >= 1,
+            regime=self.law.regime_names[branch], yield_approach=yield_approach,
+            yield_velocity=yield_velocity, contact_law=self.law.name, unloading=self.unloading,
+            path="time-integration", status=status, message=STATUS_MESSAGES[status],
+            warnings=self.warnings() + self._geometry_warnings(contact_radius_max, R))
+        return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
+                             contact_radius=np.sqrt(area / np.pi),
+                             mean_pressure=_quantity("mean_pressure_max", force, area),
+                             branch=branch_arr, phase=phase, events=events, nfev=run.nfev)
+
+
+class _SphereIntegration:
+    """One sphere impact in time: scales (the Hertz impact on the surface's modulus), the law
+    at this R, the pieces, the event times (s) and the count of force evaluations."""
+
+    def __init__(self, model: ImpactModel, V, R, m, options: HistoryOptions, gap):
+        self.model, self.law, self.V, self.R, self.m = model, model.law, V, R, m
+        self.options, self.nfev = options, 0
+        # a uniform target's (E*, sigma_y, nu), read once
+        self.surface = (tuple(float(p) for p in model.properties(0.0, R))
+                        if model.target.uniform else None)
+        self.d_ref = float(elastic_impact(m, R, V, model.properties(0.0, R)[0]).delta_max)
+        self.t_ref = self.d_ref / V
+        self.accel = self.d_ref / (m * V * V)
+        self.pieces = PiecewiseRun(0.0, np.array([-gap / self.d_ref, 1.0]), options)
+        if gap > 0:                               # free flight to the contact event
+            self.pieces.advance(lambda t, y: [y[1], 0.0],
+                                {"contact": Event(lambda t, y: y[0], 1)}, phase=0)
+        self.events = {"contact": self.pieces.t * self.t_ref}
+
+    def force_area(self, d, b):
+        """(force N, area m^2) of the loading law's branch b at approach d (m)."""
+        if self.surface is not None:
+            return self.law.force_area(d, self.R, *self.surface, b)
+        return self.model._force_area(d, self.R, b)
+
+    def severity(self, y):
+        """The law's severity at the scaled state y."""
+        if self.surface is not None:
+            return float(self.law.severity(self.depth(y), self.R, *self.surface))
+        return float(self.model._severity(self.depth(y), self.R))
+
+    def depth(self, y):
+        """Approach in m, held in [0, R]: trial steps past R (the terminal event) or before
+        contact never reach the law."""
+        return min(max(y[0] * self.d_ref, 0.0), self.R)
+
+    def loading(self):
+        """Loading pieces from contact to the maximum approach, one per branch of the law:
+        each ends at the maximum approach, the next regime threshold or the range limit
+        (ModelRangeError). Returns the last branch and (approach m, branch) at each regime
+        change."""
+        branch, left_limits, names = 0, [], self.law.regime_names
+        while True:
+            stop = self.pieces.advance(self._loading_rhs(branch), self._loading_events(branch),
+                                       phase=1, branch=branch,
+                                       adjust=lambda s, b=branch: self._recrossed(s, b))
+            if stop.event == "maximum approach":
+                break
+            if stop.event == "range limit":
+                raise ModelRangeError(exceeds_radius_message(self.V, self.R, self.m))
+            left_limits.append((self.pieces.y[0] * self.d_ref, branch))
+            self.events[f"regime {names[branch + 1]}"] = self.pieces.t * self.t_ref
+            branch += 1
+        self.events["maximum approach"] = self.pieces.t * self.t_ref
+        return branch, left_limits
+
+    def _loading_rhs(self, branch):
+        def rhs(_, y):
+            self.nfev += 1
+            return [y[1], -float(self.force_area(self.depth(y), branch)[0]) * self.accel]
+        return rhs
+
+    def _loading_events(self, branch):
+        y_limit = self.R / self.d_ref
+        events = {"maximum approach": Event(lambda t, y: y[1], -1),
+                  "range limit": Event(lambda t, y: y[0] - y_limit, 1)}
+        if branch < len(self.law.thresholds):
+            level = self.law.thresholds[branch]
+            events["regime threshold"] = Event(
+                lambda t, y: self.severity(y) - level, 1)
+        return events
+
+    def _recrossed(self, stop: Stop, branch) -> Stop:
+        """A threshold crossed and left again inside the step holding the maximum shows no
+        sign change at the step ends: find it on the dense output and end the piece there."""
+        if stop.event != "maximum approach" or branch >= len(self.law.thresholds):
+            return stop
+        sol, level = stop.sol, self.law.thresholds[branch]
+
+        def above(t):
+            return self.severity(sol.sol(t)) - level
+        if above(stop.t) >= 0:
+            from scipy.optimize import brentq
+            t_below = max(t for t in sol.t if t < stop.t and above(t) < 0)
+            t_end = brentq(above, t_below, stop.t, xtol=1e-15 * stop.t)
+            return stop._replace(event="regime threshold", t=t_end, y=sol.sol(t_end))
+        return stop
+
+    def unloading(self, branch, d_max, f_end, a_end, yield_approach):
+        """Unloading to separation (approach back at the residual depth): along the loading
+        curve from a reversible branch, else by the unloading law; none beyond its fit.
+        Returns (elastic, beyond_fit, residual depth m, (force, area) at an approach, e_y,
+        scaled separation time)."""
+        e_max = float(self.model.properties(d_max, self.R)[0])
+        unl = unload(self.model.unloading, delta_max=d_max, force_max=f_end, area_max=a_end,
+                     E_star=e_max, R=self.R, yield_approach=yield_approach)
+        elastic, beyond_fit = _unloading_case(branch < self.law.reversible_branches, unl)
         if elastic:                               # unload along the loading curve
             residual = 0.0
 
-            def unloading_state(d):
-                return force_area(np.maximum(d, 0.0), branch)
+            def state(d):
+                return self.force_area(np.maximum(d, 0.0), branch)
         else:
             residual = math.nan if beyond_fit else float(unl.residual_depth)
 
-            def unloading_state(d):
+            def state(d):
                 return (unl.force(d, e_max),
                         np.pi * np.maximum(np.asarray(d) - residual, 0.0) * unl.radius)
 
-        def rhs_unloading(_, y):
-            nfev[0] += 1
-            return [y[1], -float(unloading_state(y[0] * d_ref)[0]) * accel]
+        def rhs(_, y):
+            self.nfev += 1
+            return [y[1], -float(state(y[0] * self.d_ref)[0]) * self.accel]
 
         e_y = t_sep = math.nan
         if not beyond_fit:                        # else: loading only, as in the fast path
-            sol = solve_ivp(rhs_unloading, (t0, t0 + _T_BOUND), y0,
-                            events=[event(lambda t, y: y[0] - residual / d_ref, -1)], **options)
-            t_sep, e_y = sol.t_events[0][0], -sol.y_events[0][0][1]
-            pieces.append((sol, 2, branch, t0, t_sep))
-            events["separation"] = t_sep * t_ref
+            y_sep = residual / self.d_ref
+            stop = self.pieces.advance(rhs, {"separation": Event(lambda t, y: y[0] - y_sep, -1)},
+                                       phase=2, branch=branch, stopped="before separation")
+            t_sep, e_y = stop.t, -stop.y[1]
+            self.events["separation"] = t_sep * self.t_ref
+        return elastic, beyond_fit, residual, state, e_y, t_sep
 
-        time, delta, vel, phase, branch_arr = sample_pieces(pieces, samples, t_ref, d_ref, V)
-        force = np.zeros_like(delta)
-        area = np.zeros_like(delta)
+    def sampled_force_area(self, delta, phase, branch, unloading_state):
+        """Force (N) and area (m^2) at the samples: the loading law's branch while loading,
+        the unloading state while unloading, 0 out of contact."""
+        force, area = np.zeros_like(delta), np.zeros_like(delta)
         load = (phase == 1) & (delta > 0)
-        for b in np.unique(branch_arr[load]):
-            sel = load & (branch_arr == b)
-            force[sel], area[sel] = force_area(delta[sel], int(b))
+        for b in np.unique(branch[load]):
+            sel = load & (branch == b)
+            force[sel], area[sel] = self.force_area(delta[sel], int(b))
         unload_sel = phase == 2
         force[unload_sel], area[unload_sel] = unloading_state(delta[unload_sel])
-        mean_p = _quantity("mean_pressure_max", force, area)
+        return force, area
 
-        # largest force, area and mean pressure over the loading: at d_max, at both sides of
-        # each regime change, or at an interior peak of the dense solution (then refined)
+    def loading_maxima(self, f_end, a_end, left_limits) -> dict:
+        """Largest force, area and mean pressure over the loading: at d_max, at both sides of
+        each regime change, or at an interior peak of the dense solution (then refined)."""
         keys = ("force_max", "area_max", "mean_pressure_max")
         maxima = {k: max([float(_quantity(k, f_end, a_end))]
-                         + [float(_quantity(k, *force_area(d, b)))
+                         + [float(_quantity(k, *self.force_area(d, b)))
                             for d, b0 in left_limits for b in (b0, b0 + 1)]) for k in keys}
-        for sol_k, ph, b, t_a, t_b in pieces:
-            if ph != 1:
+        for piece in self.pieces.pieces:
+            if piece.phase != 1:
                 continue
-            ts = np.linspace(t_a, t_b, samples)
-            f_s, a_s = force_area(np.clip(sol_k.sol(ts)[0] * d_ref, 0.0, R), b)
+            ts = np.linspace(piece.t_start, piece.t_end, self.options.samples)
+            f_s, a_s = self.force_area(np.clip(piece.sol.sol(ts)[0] * self.d_ref, 0.0, self.R),
+                                       piece.branch)
             for key in keys:
-                q = _quantity(key, f_s, a_s)
-                k = int(np.argmax(q))
-                maxima[key] = max(maxima[key], float(q[k]))
-                if 0 < k < ts.size - 1 and q[k] > q[k - 1] and q[k] > q[k + 1]:
-                    def negative(t, sol_k=sol_k, b=b, key=key):
-                        return -float(_quantity(key, *force_area(depth(sol_k.sol(t)), b)))
-                    res = minimize_scalar(negative, bounds=(ts[k - 1], ts[k + 1]),
-                                          method="bounded", options={"xatol": 1e-14 * ts[-1]})
-                    maxima[key] = max(maxima[key], -res.fun)
+                def exact(t, key=key, piece=piece):
+                    return float(_quantity(key, *self.force_area(self.depth(piece.sol.sol(t)),
+                                                                 piece.branch)))
+                maxima[key] = sampled_maximum(_quantity(key, f_s, a_s), ts, exact, maxima[key])
+        return maxima
 
-        # the integrated rebound speed carries the integrator's error: allow 100 rtol
-        status = int(_impact_status(elastic, beyond_fit, residual, d_max, e_y, 100 * rtol))
-        result = ImpactResult(
-            velocity=V, radius=R, mass=m, delta_max=d_max, force_max=maxima["force_max"],
-            mean_pressure_max=maxima["mean_pressure_max"],
-            contact_radius_max=math.sqrt(maxima["area_max"] / math.pi),
-            contact_time=t_sep * t_ref - events["contact"],
-            loading_time=events["maximum approach"] - events["contact"],
-            unloading_time=t_sep * t_ref - events["maximum approach"],
-            residual_depth=residual, restitution=e_y, rebound_velocity=e_y * V,
-            yielded=branch >= 1, regime=law.regime_names[branch],
-            yield_approach=yield_approach, yield_velocity=yield_velocity,
-            contact_law=law.name, unloading=self.unloading, path="time-integration",
-            status=status, message=STATUS_MESSAGES[status],
-            warnings=self.warnings() + self._geometry_warnings(
-                math.sqrt(maxima["area_max"] / math.pi), R))
-        return ImpactHistory(result=result, time=time, delta=delta, velocity=vel, force=force,
-                             contact_radius=np.sqrt(area / np.pi), mean_pressure=mean_p,
-                             branch=branch_arr, phase=phase, events=events, nfev=nfev[0])
-
-
-def sample_pieces(pieces, samples: int, t_ref: float, d_ref: float, v_ref: float):
-    """Samples of a time integration in pieces ``(sol, *labels, t_a, t_b)`` (dense-output
-    `solve_ivp` solutions of the scaled approach and velocity): every solver step within
-    [t_a, t_b] plus ``samples`` evenly spaced points. Returns time (s), approach (m) and
-    velocity (m/s), then one array per label, broadcast to the samples."""
-    rows = []
-    for sol, *labels, t_a, t_b in pieces:
-        steps = sol.t[(sol.t >= t_a) & (sol.t <= t_b)]
-        ts = np.unique(np.concatenate([steps, np.linspace(t_a, t_b, samples)]))
-        ys = sol.sol(ts)
-        rows.append([ts * t_ref, ys[0] * d_ref, ys[1] * v_ref,
-                     *(np.full(ts.size, label) for label in labels)])
-    return tuple(np.concatenate(column) for column in zip(*rows))
-
-
-def _impact_inputs(velocity, radius, mass):
+def impact_inputs(velocity, radius, mass):
     """Checked, broadcast float arrays (V, R, m) within their valid ranges, each (R, m) of a
     plausible mean density (`check_density`)."""
     V, R, m = check_broadcast(

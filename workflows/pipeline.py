@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from filmscale.continuum.calibration.result import Calibration, CrossCheck
+from filmscale.continuum.contact.laws import DEFAULT_LAW
 from filmscale.core.errors import InputError
 from filmscale.workflows.plan import Plan, check_request, plan_scene
 from filmscale.workflows.result import write_scene_result
@@ -61,7 +62,7 @@ class SceneResult:
         import h5py
         import pandas as pd
 
-        from filmscale.continuum.contact.impact_map import map_units
+        from filmscale.continuum.contact.kinds import map_units
         units = map_units()
         with h5py.File(self.path, "r") as f:
             point = {k: float(f["impact/point"][k][()]) for k in f["impact/point"]}
@@ -96,7 +97,7 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     calibrations: dict[int, Calibration] = {}
     checks: dict[int, CrossCheck] = {}
     run_records: dict[str, dict] = {}
-    law = pipeline.data.get("model", {}).get("contact_law", "komvopoulos-ye")
+    law = pipeline.data.get("model", {}).get("contact_law", DEFAULT_LAW)
     for k, sources in layer_sources(pipeline).items():
         nu = float(pipeline.data["target"]["layers"][k]["nu"])
         parts, part_units = [], []

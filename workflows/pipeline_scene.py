@@ -24,8 +24,9 @@ from filmscale.core.checks import (THICKNESS_MAX,
 from filmscale.core.errors import InputError
 from filmscale.core.files import parse_toml, read_text
 
-from filmscale.workflows.scene import (MATERIAL_KEYS, Scene, check_layer_headers, material,
-                                       scene_from_data, si_quantities)
+from filmscale.workflows.scene import (MATERIAL_KEYS, MapSpec, Scene, check_layer_headers,
+                                       check_scene_data, material, read_impactor,
+                                       read_map_spec, scene_from_data, si_quantities)
 
 
 OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
@@ -155,6 +156,11 @@ class PipelineScene:
     tolerance: float
     friction: float
     angle: float
+
+    def map_spec(self) -> MapSpec:
+        """The scene's [map] axes (known before any calibration)."""
+        impactor = read_impactor(self.data)
+        return read_map_spec(self.data, impactor.mass, impactor)
 
     def completed(self, materials: dict[int, ElasticPlastic],
                   h_star: dict[int, float] | None = None) -> Scene:
@@ -289,8 +295,8 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
             sources.append(src)
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)
-    placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in sources}
-    pipeline.completed(placeholder)     # every other key checked now
+    # every other key checked now, the calibrated layers' E and sigma_y excepted
+    check_scene_data(data, pending={s.layer for s in sources})
     return pipeline
 
 

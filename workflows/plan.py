@@ -21,12 +21,12 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import ImpactModel
+from filmscale.continuum.contact.kinds import ModelKind, kind_for
 from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.materials import ElasticPlastic, LayerStack
 from filmscale.core.errors import InputError
@@ -155,9 +155,15 @@ def _check_direction(outputs, friction: float, angle: float) -> None:
             "normal approach has no tangential motion; give impactor.angle in (0, 90) degrees")
 
 
+def _oblique(outputs, friction: float, angle: float) -> bool:
+    """Rule 2: an impact has a tangential problem when it comes at an angle with friction,
+    or when tangential outputs are asked for."""
+    return angle > 0 and (friction > 0 or "tangential" in outputs)
+
+
 def _direction_step(outputs, friction: float, angle: float) -> Step:
     """Rule 2's choice between the normal and the oblique impact."""
-    if angle > 0 and (friction > 0 or "tangential" in outputs):
+    if _oblique(outputs, friction, angle):
         coupled = (f"; above mu = {FRICTION_LIMIT} the normal motion may depend on friction, "
                    "which the model leaves out" if friction >= FRICTION_LIMIT else "")
         return Step("direction", "oblique impact (Mindlin-Deresiewicz by MDR, Coulomb, rotation)",
@@ -172,12 +178,14 @@ def _direction_step(outputs, friction: float, angle: float) -> Step:
 
 def check_request(pipeline: PipelineScene) -> None:
     """What the impact rules refuse whatever the calibrations find: an oblique or tangential
-    request (rule 2) and a map without valid axes. `plan` and `run` check it before any
-    unit runs, so that a run never stops there after its MD runs."""
+    request (rule 2), a shape without an oblique model, and a map without valid axes. `plan`
+    and `run` check it before any unit runs, so that a run never stops there after its MD
+    runs."""
     _check_direction(pipeline.outputs, pipeline.friction, pipeline.angle)
+    if _oblique(pipeline.outputs, pipeline.friction, pipeline.angle):
+        kind_for(pipeline.data["impactor"].get("shape", "sphere"), oblique=True)
     if "map" in pipeline.outputs:
-        placeholder = {s.layer: ElasticPlastic(100e9, 0.3, 1e9) for s in pipeline.calibrations}
-        pipeline.completed(placeholder).map.axes()
+        pipeline.map_spec().axes()
 
 
 #: the exact layered solution is asked for contact radii up to this many film thicknesses
@@ -191,7 +199,7 @@ def gao_error(scene: Scene, R: float, depth: float) -> str:
     the approach ``depth`` (m) against the exact layered solution at that approach; with
     several films, the measured range for their largest modulus ratio."""
     from filmscale.continuum.contact.coated import coated_sphere_load
-    from filmscale.continuum.contact.hertz import _hertz_force
+    from filmscale.continuum.contact.hertz import hertz_force_unchecked
     from filmscale.continuum.contact.profiles import StackProfile
     layers = scene.stack.layers
     materials = [layer.material for layer in layers] + [scene.stack.substrate]
@@ -209,7 +217,7 @@ def gao_error(scene: Scene, R: float, depth: float) -> str:
                 "where the film's share of the elastic load is below 1 %")
     stack = LayerStack(layers, scene.stack.substrate)
     E_p = StackProfile(stack).properties(np.array([depth]), R)[0]
-    gao = float(_hertz_force(depth, R, float(np.asarray(E_p).ravel()[0])))
+    gao = float(hertz_force_unchecked(depth, R, float(np.asarray(E_p).ravel()[0])))
     exact = float(coated_sphere_load(depth, R, t, layers[0].material,
                                      scene.stack.substrate)[0])
     return (f"the weighting's own: {gao / exact - 1:+.1%} in elastic load at the deepest "
@@ -217,84 +225,106 @@ def gao_error(scene: Scene, R: float, depth: float) -> str:
             f"{worst:.3g}, contact radius {a / t:.3g} film thicknesses)")
 
 
-def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
-                angle: float = 0.0) -> Plan:
-    """Rules 2-5 on a complete scene."""
-    _check_direction(outputs, friction, angle)
-    steps = [_direction_step(outputs, friction, angle)]
-    oblique = steps[0].model.startswith("oblique")
-    V, R = _points(scene, outputs)
+def _target_step(scene: Scene, kind: ModelKind, V, R, tolerance: float):
+    """Rule 3: the films, or the substrate alone when skipping them changes the maxima by
+    at most ``tolerance``; (the step or None without films, the target, the maxima that
+    decide rule 4)."""
     m = scene.impactor.mass
-    law = scene.law
-    target = "layered"
-    full = scene.model().maxima(V, R, m)
-    if not np.any(np.isfinite(full.delta_max)):
+    full = kind.maxima(scene.model(kind=kind), V, R, m)
+    if not np.any(np.isfinite(full["delta_max"])):
         raise InputError(f"impactor: at V = {V[0]:g} m/s, R = {R[0]:g} m, m = {m:g} kg (and "
-                         "the map's corners) the approach would exceed the sphere radius; "
-                         "no contact model holds there")
-    bare = full
-    if scene.stack.layers:
-        bare = scene.substrate_model().maxima(V, R, m)
-        change = float(np.nanmax(np.abs(np.r_[bare.delta_max / full.delta_max,
-                                               bare.force_max / full.force_max] - 1.0)))
-        depth = float(np.nanmax(full.delta_max))
-        if change <= tolerance:
-            target = "substrate"
-            steps.append(Step("target", f"substrate alone ({scene.stack.substrate.name})",
-                              f"skipping the films changes the maxima by {change:.2%} at "
-                              f"most, within the tolerance {tolerance:.0%} (rule 3)",
-                              f"{change:.2%} from the films left out", 0.0))
-        else:
-            steps.append(Step("target", "layered profile (Gao weighting, docs/physics.md s. 7)",
-                              f"the films change the maxima by up to {change:.1%} (deepest "
-                              f"approach {depth:.3g} m against "
-                              f"{sum(l.thickness for l in scene.stack.layers):.3g} m of "
-                              "film), above the tolerance (rule 3)",
-                              gao_error(scene, float(R[int(np.nanargmax(
-                                  full.delta_max))]), depth), 0.0))
-    else:
-        target = "substrate"
-    check = bare if target == "substrate" else full
-    if np.any(check.yielded):
-        chosen = law
-        steps.append(Step("contact law", law.name,
-                          f"first yield is reached at {int(np.sum(check.yielded))} of "
-                          f"{V.size} checked points (rule 4)",
-                          "the law's own against FE (docs/physics.md)", 0.0))
-    else:
-        chosen = contact_law("hertz")
-        steps.append(Step("contact law", "Hertz (closed form)",
-                          f"no checked point reaches first yield (largest V {V.max():.3g} "
-                          f"m/s under V_Y = {float(np.nanmin(check.yield_velocity)):.3g} "
-                          "m/s) (rule 4)", "exact for an elastic contact", 0.0))
-    run_model = chosen_model(scene, target, chosen.name)
-    path = "time" if "history" in outputs else "fast"
+                         "the map's corners) no point is inside the model's range "
+                         f"({kind.range_limit}); no contact model holds there")
+    if not scene.stack.layers:
+        return None, "substrate", full
+    bare = kind.maxima(scene.substrate_model(kind=kind), V, R, m)
+    change = float(np.nanmax(np.abs(np.r_[bare["delta_max"] / full["delta_max"],
+                                           bare["force_max"] / full["force_max"]] - 1.0)))
+    depth = float(np.nanmax(full["delta_max"]))
+    if change <= tolerance:
+        return (Step("target", f"substrate alone ({scene.stack.substrate.name})",
+                     f"skipping the films changes the maxima by {change:.2%} at most, within "
+                     f"the tolerance {tolerance:.0%} (rule 3)",
+                     f"{change:.2%} from the films left out", 0.0), "substrate", bare)
+    deepest = float(R[int(np.nanargmax(full["delta_max"]))])
+    return (Step("target", "layered profile (Gao weighting, docs/physics.md s. 7)",
+                 f"the films change the maxima by up to {change:.1%} (deepest approach "
+                 f"{depth:.3g} m against {sum(l.thickness for l in scene.stack.layers):.3g} m "
+                 "of film), above the tolerance (rule 3)", gao_error(scene, deepest, depth),
+                 0.0), "layered", full)
+
+
+def _law_step(scene: Scene, kind: ModelKind, check: dict, V) -> tuple[Step, str]:
+    """Rule 4: the closed-form Hertz impact where no checked point yields, else the scene's
+    law; a kind without a choice of law keeps its own."""
+    if "contact_law" not in {k.name for k in kind.keys}:
+        return Step("contact law", f"the {kind.name} model's own", kind.summary,
+                    "the model's own (docs/physics.md)", 0.0), scene.law.name
+    law = scene.law
+    if np.any(check["yielded"]):
+        return Step("contact law", law.name, f"first yield is reached at "
+                    f"{int(np.sum(check['yielded']))} of {V.size} checked points (rule 4)",
+                    "the law's own against FE (docs/physics.md)", 0.0), law.name
+    return Step("contact law", "Hertz (closed form)", f"no checked point reaches first yield "
+                f"(largest V {V.max():.3g} m/s under V_Y = "
+                f"{float(np.nanmin(check['yield_velocity'])):.3g} m/s) (rule 4)",
+                "exact for an elastic contact", 0.0), "hertz"
+
+
+def _path_steps(scene: Scene, kind: ModelKind, run_model, outputs, V, R) -> list[Step]:
+    """Rule 5, with the measured cost of one history and of one maxima point."""
+    imp, steps = scene.impactor, []
+    options = scene.kind_options(kind)
+    if "history" in outputs:
+        _, one = _timed(lambda: kind.history(run_model, imp.velocity, imp.radius, imp.mass,
+                                             options))
+        steps.append(Step("impact", "time integration (histories)",
+                          "time histories are asked for (rule 5)", f"rtol {scene.rtol:g}",
+                          one))
     count = 1
     if "map" in outputs:
         v_axis, r_axis = scene.map.axes()
         count = v_axis.size * r_axis.size
-    if path == "time":
-        _, one = _timed(lambda: run_model.history(scene.impactor.velocity,
-                                                  scene.impactor.radius, m))
-        steps.append(Step("impact", "time integration (histories)",
-                          "time histories are asked for (rule 5)",
-                          f"rtol {scene.rtol:g}", one))
-    _, one = _timed(lambda: run_model.maxima(V[:1], R[:1], m))
+    _, one = _timed(lambda: kind.maxima(run_model, V[:1], R[:1], imp.mass))
     steps.append(Step("impact", ("impact map " if "map" in outputs else "") +
                       "fast maxima (energy quadrature)",
                       "maxima, restitution and residual depth need no time history (rule 5)",
                       "about 1e-11 relative (12-node quadrature)", one * count))
+    return steps
+
+
+def _oblique_step(scene: Scene, kind: ModelKind, run_model, angle, friction) -> Step:
+    """The tangential step of an oblique impact, timed at the scene's point."""
+    imp = scene.impactor
+    options = scene.kind_options(kind) | {"angle": angle, "friction": friction}
+    res, one = _timed(lambda: kind.solve(run_model, imp.velocity, imp.radius, imp.mass,
+                                         options))
+    return Step("tangential", f"oblique impact at the scene's point ({res.path})",
+                "closed form where the contact slips throughout or has no friction, else time "
+                "integration (docs/physics.md s. 5)", "closed form exact; time integration "
+                "rtol 1e-9", one)
+
+
+def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
+                angle: float = 0.0) -> Plan:
+    """Rules 2-5 on a complete scene, for the model kind of its impactor's shape."""
+    _check_direction(outputs, friction, angle)
+    steps = [_direction_step(outputs, friction, angle)]
+    oblique = _oblique(outputs, friction, angle)
+    # the normal kind of the shape decides rules 3-5; the oblique one adds the tangential step
+    kind, normal = kind_for(scene.impactor.shape, oblique), kind_for(scene.impactor.shape)
+    V, R = _points(scene, outputs)
+    target_step, target, check = _target_step(scene, normal, V, R, tolerance)
+    steps += [target_step] if target_step else []
+    law_step, law = _law_step(scene, normal, check, V)
+    steps.append(law_step)
+    run_model = chosen_model(scene, target, law, normal)
+    steps += _path_steps(scene, normal, run_model, outputs, V, R)
     if oblique:
-        from filmscale.continuum.contact.oblique import solve_oblique
-        imp = scene.impactor
-        res, one = _timed(lambda: solve_oblique(run_model, imp.velocity, imp.radius, m, angle,
-                                                friction, inertia_factor=imp.inertia_factor))
-        steps.append(Step("tangential", f"oblique impact at the scene's point ({res.path})",
-                          "closed form where the contact slips throughout or has no friction, "
-                          "else time integration (docs/physics.md s. 5)",
-                          "closed form exact; time integration rtol 1e-9", one))
-    decisions = {"target": target, "law": chosen.name, "path": path,
-                 "map": "map" in outputs, "history": path == "time"}
+        steps.append(_oblique_step(scene, kind, run_model, angle, friction))
+    decisions = {"kind": kind.name, "target": target, "law": law, "path":
+                 "time" if "history" in outputs else "fast", "map": "map" in outputs,
+                 "history": "history" in outputs}
     if oblique:
         decisions.update(direction="oblique", friction=friction, angle=angle)
     return Plan(tuple(steps), decisions)
@@ -322,9 +352,9 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
     return Plan(tuple(steps) + impact.steps, impact.decisions)
 
 
-def chosen_model(scene: Scene, target: str, law: str) -> ImpactModel:
-    """The impact model the plan chose: ``target`` "substrate" or "layered", ``law`` the
-    scene's law or "hertz"."""
-    base = scene.substrate_model() if target == "substrate" else scene.model()
+def chosen_model(scene: Scene, target: str, law: str, kind: ModelKind | None = None):
+    """The impact model the plan chose: of ``kind`` (default: the scene's), ``target``
+    "substrate" or "layered", ``law`` the scene's law or "hertz"."""
+    kind = kind or scene.kind
     chosen = contact_law("hertz") if law == "hertz" else scene.law
-    return ImpactModel(base.target, chosen, scene.impactor.material, scene.unloading)
+    return replace(scene, law=chosen).model(bare_substrate=target == "substrate", kind=kind)

@@ -11,6 +11,7 @@ points whose approach would exceed R hatched (in every map filmscale draws).
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -18,10 +19,12 @@ from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
 from matplotlib.figure import Figure
 from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter
 
-from filmscale.continuum.contact.cylinder import CylinderImpactHistory
-from filmscale.continuum.contact.impact import ImpactHistory
-from filmscale.continuum.contact.impact_map import CylinderMap, ImpactMap
+from filmscale.continuum.contact.kinds import kind_named
 from filmscale.core.files import atomic_path
+
+if TYPE_CHECKING:
+    from filmscale.continuum.contact.impact_map import GridMap, ImpactMap
+    ContactMap = ImpactMap | GridMap
 
 #: file formats the plots can be written in
 PLOT_FORMATS = tuple(sorted(FigureCanvasAgg.get_supported_filetypes()))
@@ -45,9 +48,6 @@ DISPLAY = {
 #: fields on a linear colour scale (signed or of order one); the others are logarithmic
 LINEAR = {"restitution_tangential", "restitution_contact_point", "impulse_ratio",
           "rebound_angle", "spin"}
-#: the tangential fields an oblique map adds to the plot
-OBLIQUE_PLOT_FIELDS = ("restitution_tangential", "restitution_contact_point", "rebound_angle",
-                       "spin")
 
 
 def _levels(values: list[np.ndarray], field: str):
@@ -102,13 +102,13 @@ def _colorbar(fig, mappable, axes, label, norm, constant=None):
     cb.set_label(label)
 
 
-def _angle_rows(m: ImpactMap | CylinderMap) -> bool:
-    """True for an oblique map over (V, angle); cylinder maps have no angle."""
+def _angle_rows(m: ContactMap) -> bool:
+    """True for an oblique map over (V, angle); other maps have no angle."""
     angle = getattr(m, "angle", None)
     return angle is not None and np.ptp(angle) > 0
 
 
-def _rows(m: ImpactMap | CylinderMap) -> tuple[np.ndarray, str, bool]:
+def _rows(m: ContactMap) -> tuple[np.ndarray, str, bool]:
     """The map's row axis for plotting: values, label and whether it is logarithmic. An
     oblique map over (V, angle) has the incidence angle as rows, any other map the radius."""
     if _angle_rows(m):
@@ -116,7 +116,7 @@ def _rows(m: ImpactMap | CylinderMap) -> tuple[np.ndarray, str, bool]:
     return m.radius * 1e6, "radius R (µm)", m.radius[-1] / m.radius[0] > 20
 
 
-def _style_axes(ax, m: ImpactMap | CylinderMap, first_row: bool, last_row: bool,
+def _style_axes(ax, m: ContactMap, first_row: bool, last_row: bool,
                 first_col: bool, title):
     _, label, log = _rows(m)
     if m.velocity[-1] / m.velocity[0] > 20:
@@ -144,18 +144,24 @@ def _done(fig: Figure, path) -> Figure:
     return fig
 
 
-def _figure(rows: int = 1, cols: int = 1, **kwargs):
+def new_figure(rows: int = 1, cols: int = 1, **kwargs):
     """A pyplot-free figure and its axes (an array when ``squeeze`` is False)."""
     layout = kwargs.pop("layout", "constrained")
     fig = Figure(figsize=kwargs.pop("figsize"), layout=layout)
     return fig, fig.subplots(rows, cols, **kwargs)
 
 
-def draw_map_field(fig: Figure, ax, m: ImpactMap | CylinderMap, field: str,
+def display(m: ContactMap, field: str) -> tuple[str, str, float]:
+    """(name, unit, factor to that unit) of a map field; a field of a model kind that
+    `DISPLAY` does not name is shown by its name in its SI unit."""
+    return DISPLAY.get(field, (field.replace("_", " "), m.units.get(field, "-"), 1.0))
+
+
+def draw_map_field(fig: Figure, ax, m: ContactMap, field: str,
                    label: str | None = None):
     """One field of one map on ``ax`` with its own colour bar, as `plot_impact_maps` draws
     it: hatched out of range, dashed first yield, a constant field in one colour."""
-    name, unit, factor = DISPLAY[field]
+    name, unit, factor = display(m, field)
     z = m.field(field) * factor
     levels, norm, constant = _levels([z], field)
     filled = _fill(ax, m, z, field, levels, norm)
@@ -180,7 +186,7 @@ def _fill(ax, m, z, field, levels, norm):
         computed = z[~m.out_of_range]
         why = ("0 everywhere" if computed.size and np.all(np.nan_to_num(computed) == 0)
                else "nothing computed")
-        ax.text(0.5, 0.5, f"{DISPLAY[field][0]}:\n{why}", transform=ax.transAxes,
+        ax.text(0.5, 0.5, f"{display(m, field)[0]}:\n{why}", transform=ax.transAxes,
                 ha="center", va="center", color="0.3")
     yielded = m.yielded.astype(float)
     if 0 < yielded.mean() < 1:
@@ -189,26 +195,27 @@ def _fill(ax, m, z, field, levels, norm):
     return filled
 
 
-def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path=None, fields=None,
+def plot_impact_maps(maps: dict[str, ContactMap], path=None, fields=None,
                      title: str = "") -> Figure:
     """Contour plots of ``fields`` (rows) for each labelled map (columns); the Figure, also
     saved to ``path`` when given.
 
-    ``fields`` None: the maps' own (MAP_FIELDS for spheres) and, for an oblique map, its
-    tangential results; a map over (V, angle) shows e_y and the tangential results only (the
-    normal maxima do not depend on the angle). With two maps a third column compares them:
+    ``fields`` None: those its model kind shows (`kinds.ModelKind.fields`: an oblique map's
+    include its tangential results); a map over (V, angle) shows e_y and the tangential
+    results only (the normal maxima do not depend on the angle). With two maps a third column compares them:
     their ratio (first / second), or their difference for the signed, linear fields.
     """
     labels = list(maps)
     first = maps[labels[0]]
     if fields is None:
-        fields = ("restitution",) if _angle_rows(first) else tuple(first.fields)
-        fields += OBLIQUE_PLOT_FIELDS if getattr(first, "tangential", None) else ()
+        shown = tuple(kind_named(first.kind).fields)
+        fields = (("restitution",) + tuple(f for f in shown if f in first.tangential)
+                  if _angle_rows(first) else shown)
     ratio = len(labels) == 2
     rows, cols = len(fields), len(labels) + ratio
-    fig, axes = _figure(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows), squeeze=False)
+    fig, axes = new_figure(rows, cols, figsize=(4.2 * cols + 1.2, 2.9 * rows), squeeze=False)
     for r, field in enumerate(fields):
-        name, unit, scale = DISPLAY[field]
+        name, unit, scale = display(first, field)
         data = [maps[lab].field(field) * scale for lab in labels]
         levels, norm, constant = _levels(data, field)
         filled = None
@@ -242,11 +249,20 @@ def plot_impact_maps(maps: dict[str, ImpactMap | CylinderMap], path=None, fields
             _style_axes(ax, first, r == 0, r == rows - 1, False,
                         f"{labels[0]} {'-' if difference else '/'} {labels[1]}")
     if title:
-        blank = ("blank e_x, e_c: no tangential speed (normal incidence)"
-                 if _angle_rows(first) else "blank residual depth: no crater")
-        fig.suptitle(f"{title}\ndashed: first yield; hatched: {first.range_limit} "
-                     f"(not computed); {blank}")
+        fig.suptitle(f"{title}\n{_key_note(first, fields, cols)}")
     return _done(fig, path)
+
+
+def _key_note(first, fields, columns: int) -> str:
+    """What the lines, hatching and blanks of the maps mean: only what the fields drawn can
+    show, wrapped to the figure's width."""
+    import textwrap
+    notes = ["dashed: first yield", f"hatched: {first.range_limit} (not computed)"]
+    if _angle_rows(first):
+        notes.append("blank e_x, e_c: no tangential speed (normal incidence)")
+    elif "residual_depth" in fields:
+        notes.append("blank residual depth: no crater")
+    return "\n".join(textwrap.wrap("; ".join(notes), width=60 * columns))
 
 
 def _hatch_out_of_range(ax, V, Y, out_of_range: np.ndarray):
@@ -255,18 +271,14 @@ def _hatch_out_of_range(ax, V, Y, out_of_range: np.ndarray):
         ax.contourf(V, Y, out, levels=[0.5, 1.5], colors=["0.85"], hatches=["///"])
 
 
-def plot_history(history: ImpactHistory | CylinderImpactHistory, path=None,
-                 title: str = "") -> Figure:
-    """Force against approach, and approach and force against time, of one impact of a
-    sphere or a cylinder; the Figure, also saved to ``path`` when given."""
+def plot_history(history, path=None, title: str = "", kind: str = "sphere") -> Figure:
+    """Force against approach, and approach and force against time, of one impact of the
+    model ``kind`` (its `kinds.ModelKind.history_labels` name the axes); the Figure, also
+    saved to ``path`` when given."""
     res = history.result
-    if isinstance(history, CylinderImpactHistory):
-        # a line contact's approach is measured from the datum depth d
-        approach = f"approach δ from d = {res.datum_depth * 1e3:.3g} mm (nm)"
-        what = f"cylinder L = {res.length * 1e3:.3g} mm"
-    else:
-        approach, what = "approach δ (nm)", res.contact_law
-    fig, (ax1, ax2) = _figure(1, 2, figsize=(10, 4))
+    labels = kind_named(kind).history_labels
+    approach, what = labels(res) if labels else ("approach δ (nm)", kind)
+    fig, (ax1, ax2) = new_figure(1, 2, figsize=(10, 4))
     contact = history.phase > 0
     t_us = history.time[contact] * 1e6
     d_nm = history.delta[contact] * 1e9
@@ -295,7 +307,7 @@ def plot_curve_analysis(curve, result, path=None, title: str = "") -> Figure:
     from filmscale.continuum.indentation.curves import SEGMENT_NAMES
 
     c = curve.finite()
-    fig, ax = _figure(figsize=(5.6, 4.2))
+    fig, ax = new_figure(figsize=(5.6, 4.2))
     colours = ("tab:blue", "tab:gray", "tab:green")
     for label, start, stop in c.runs():
         ax.plot(c.h[start:stop] * 1e9, c.P[start:stop] * 1e3, ".", ms=2.5, color=colours[label],
@@ -331,7 +343,7 @@ def plot_csm(curve, result, path=None, title: str = "") -> Figure:
     """A CSM test: E (or E_r without a Poisson ratio) and H against depth, beside the
     instrument's own Modulus and Hardness channels where the file has them, with the depth
     range of the averages shaded; the Figure, also saved to ``path`` when given."""
-    fig, axes = _figure(1, 2, figsize=(9.6, 3.9))
+    fig, axes = new_figure(1, 2, figsize=(9.6, 3.9))
     c = curve.finite()
     with_E = result.ok and np.isfinite(result.E).any()
     panels = ((axes[0], result.E if with_E else result.E_r, "E_vendor",
@@ -369,7 +381,7 @@ def plot_property_profile(profile, path=None, nix_gao=None, fit=None,
     horizontal line at the depth-independent H0), and a film/substrate model's fitted E_r(h_c)
     with the indents it was fitted on (``film``, a `FilmModulus`); the Figure, also saved to
     ``path`` when given. Legends sit below the axes, off the data."""
-    fig, axes = _figure(1, 2, figsize=(10.0, 4.8), sharex=True)
+    fig, axes = new_figure(1, 2, figsize=(10.0, 4.8), sharex=True)
     top = float(np.max(profile.h_c)) * 1.05
     edges = [0.0, *profile.interfaces, top]
     for ax, key, name in ((axes[0], "E_r", "reduced modulus E_r (GPa)"),

@@ -20,11 +20,11 @@ from filmscale.continuum.calibration.result import (FITS_E, FITS_SIGMA_Y, CrossC
 from filmscale.continuum.contact.results import ImpactMaxima
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_path, check_regular_file
-from filmscale.continuum.contact.impact_map import ImpactMap
+from filmscale.continuum.contact.kinds import kind_named
 from filmscale.core.quantities import eng
 from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS, read_map_group
 
-from .plots import _figure, draw_map_field, save_figure
+from .plots import new_figure, draw_map_field, save_figure
 
 
 def _png(fig) -> str:
@@ -198,9 +198,11 @@ MAP_PANELS = (("delta_max", "maximum approach (nm)", 1e9),
               ("residual_depth", "residual depth (nm)", 1e9))
 
 
-def result_map(group) -> ImpactMap:
-    """The impact map of a scene result's impact/map group (either layout: /2 or /3)."""
-    return ImpactMap.from_arrays(read_map_group(group))
+def result_map(group):
+    """The impact map of a scene result's impact/map group (either layout: /2 or /3), as
+    its model kind reads it (a sphere's where the file names none)."""
+    kind = kind_named(str(group.attrs.get("kind", "sphere")))
+    return kind.map_from_arrays(read_map_group(group))
 
 
 def _draw_band(ax, impact, key, label, scale):
@@ -225,7 +227,7 @@ def _draw_band(ax, impact, key, label, scale):
 
 
 def _panel(draw, *args, size=(5, 3.6)) -> str:
-    fig, ax = _figure(figsize=size)
+    fig, ax = new_figure(figsize=size)
     draw(ax, *args)
     return _png(fig)
 
@@ -242,17 +244,20 @@ def bound_note(calibration_group) -> str:
 
 
 def _map_figure(group, note: str = "") -> str:
-    fig, axes = _figure(1, 3, figsize=(13, 3.6))
+    fig, axes = new_figure(1, 3, figsize=(13, 3.6))
     m = result_map(group)
     for ax, (key, label, _) in zip(axes, MAP_PANELS):
-        draw_map_field(fig, ax, m, key, label=label)
+        if key in m.units:      # a model kind may have no crater (a flat punch)
+            draw_map_field(fig, ax, m, key, label=label)
+        else:
+            ax.set_axis_off()
     if note:
         fig.suptitle(note, fontsize=9)
     return _png(fig)
 
 
 def _band_figure(impact) -> str:
-    fig, axes = _figure(1, 2, figsize=(10, 3.6))
+    fig, axes = new_figure(1, 2, figsize=(10, 3.6))
     for ax, panel in zip(axes, MAP_PANELS[:2]):
         _draw_band(ax, impact, *panel)
     return _png(fig)

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
-from filmscale.continuum.contact.impact_map import (CylinderMap, ImpactMap, map_units,
-                                                   row_dimension)
+from filmscale.continuum.contact.impact_map import row_dimension
+from filmscale.continuum.contact.kinds import map_units
 from filmscale.continuum.contact.profiles import StackProfile
 from filmscale.core.checks import check_path
 from filmscale.core.errors import InputError
@@ -97,7 +97,8 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
         for group, values in groups.items():
             if group in ("map", "map_std"):     # maps: the one layout, std on the map's axes
                 axes = {k: v for k, v in groups["map"].items() if k in MAP_COORDINATES}
-                write_map_group(i.create_group(group), {**values, **axes})
+                write_map_group(i.create_group(group), {**values, **axes},
+                                {"kind": plan.decisions.get("kind", "sphere")})
             else:
                 for name, value in values.items():
                     i.create_dataset(f"{group}/{name}", data=value)
@@ -167,7 +168,7 @@ def read_map_group(g: h5py.Group) -> dict[str, np.ndarray]:
     return out
 
 
-def write_impact_maps(path, maps: dict[str, ImpactMap | CylinderMap], models: dict[str, dict],
+def write_impact_maps(path, maps: dict, models: dict[str, dict],
                       provenance: dict[str, str], scene_text: str = "") -> Path:
     """One file holding impact maps of one impactor shape: one `write_map_group` per label
     (e.g. "layered", "homogeneous") with the model as JSON in its ``model`` attribute, and
@@ -183,15 +184,15 @@ def write_impact_maps(path, maps: dict[str, ImpactMap | CylinderMap], models: di
         f.create_dataset("scene", data=scene_text)
         f.attrs["mass"] = first.mass
         f.attrs["mass_units"] = "kg"
-        if isinstance(first, CylinderMap):
-            f.attrs["length"], f.attrs["length_units"] = first.length, "m"
+        for key, value in first.attrs.items():      # e.g. a cylinder's length, in m
+            f.attrs[key], f.attrs[f"{key}_units"] = value, "m"
         for label in labels:
             m = maps[label]
             write_map_group(f.create_group(label), m.to_dict(),
                             {"regime_names": dumps(list(m.regime_names)),
                              "status_codes": dumps(m.status_messages),
                              "model": dumps(models.get(label, {})),
-                             "shape": m.shape})
+                             "shape": m.shape, "kind": m.kind})
     return Path(path)
 
 

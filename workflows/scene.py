@@ -15,36 +15,26 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.continuum import (DIAMOND, ElasticPlastic, ImpactModel, Layer, LayerStack,
+from filmscale.continuum import (DIAMOND, ElasticPlastic, Layer, LayerStack,
                                  StackProfile)
-from filmscale.continuum.contact.cylinder import CylinderImpactModel, check_cylinder_mass
 from filmscale.continuum.contact.impact_map import axis
-from filmscale.continuum.contact.laws import LAW_NAMES, ContactLaw, contact_law
+from filmscale.continuum.contact.kinds import ModelKind, all_keys, kind_for, shapes
+from filmscale.continuum.contact.laws import DEFAULT_LAW, ContactLaw, contact_law
 from filmscale.continuum.contact.profiles import TableProfile
-from filmscale.continuum.contact.restitution import UNLOADING_MODELS
 from filmscale.continuum.indentation.io import read_table
 from filmscale.continuum.materials import check_layer_count
-from filmscale.core.checks import (MASS_RANGE, MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
-                                   VELOCITY_RANGE, check_choice, check_density, check_keys,
+from filmscale.core.checks import (MODULUS_MAX, RADIUS_RANGE, THICKNESS_MAX,
+                                   VELOCITY_RANGE, check_choice, check_keys,
                                    check_modulus, check_path, check_positive, check_real,
                                    check_yield_strength, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import parse_toml, read_text
+from filmscale.core.keys import read_keys
 from filmscale.core.quantities import to_si
 
+from .scene_keys import GENERAL_KEYS, key_names, quantity_units, section_keys
+
 MATERIAL_KEYS = {"name", "E", "nu", "sigma_y", "n"}
-_SECTIONS = {
-    "impactor": {"shape", "radius", "mass", "velocity", "E", "nu", "name", "angle",
-                 "inertia_factor", "length", "datum_depth"},
-    "target": {"substrate", "layers", "profile"},
-    "target.substrate": MATERIAL_KEYS | {"h_star"},
-    "target.layers": MATERIAL_KEYS | {"thickness", "h_star"},
-    "target.profile": {"file", "h_c", "E_r", "H", "breakpoints", "indenter", "nu"},
-    "model": {"contact_law", "unloading", "limiting_pressure_factor", "path", "rtol"},
-    "map": {"velocity", "radius", "spacing"},
-    "contact": {"friction"},
-}
-_TOP = {"impactor", "target", "model", "map", "contact", "title", "description"}
 #: the most points of an impact map (velocities x radii or angles): a 1000 x 1000 map of a
 #: one-film scene (its layered target and the bare-substrate reference) takes 64 s and
 #: 0.64 GB on two cores; 10^7 points would take over 10 minutes and 6 GB, and the axes alone
@@ -57,16 +47,10 @@ AXIS_COUNT_MAX = 100_000
 #: of 10^5 layers is refused at once, not after seconds of TOML parsing
 _LAYER_HEADER = re.compile(r"^[ \t]*\[\[[ \t]*target[ \t]*\.[ \t]*layers[ \t]*\]\]",
                            re.MULTILINE)
-_MATERIAL_UNITS = {"E": "Pa", "sigma_y": "Pa"}
-#: the keys that take a quantity with units ("10 um", "90 GPa") as well as a bare SI number,
-#: with their SI unit, by table; a [map] axis [min, max, count] takes them for min and max
-_QUANTITIES = {
-    "impactor": {"radius": "m", "mass": "kg", "velocity": "m/s", "E": "Pa", "length": "m",
-                 "datum_depth": "m", "angle": "degree"},
-    "target.substrate": _MATERIAL_UNITS | {"h_star": "m"},
-    "target.layers": _MATERIAL_UNITS | {"thickness": "m", "h_star": "m"},
+#: the quantities of a layer's calibration source (docs/pipeline.md), SI unit by key
+_SOURCE_QUANTITIES = {
     "calibrate": {"film_thickness": "m"},
-    "calibrate.substrate": _MATERIAL_UNITS,
+    "calibrate.substrate": {"E": "Pa", "sigma_y": "Pa"},
 }
 
 
@@ -99,19 +83,33 @@ def material(where: str, table: dict, require_yield: bool = True) -> ElasticPlas
 
 @dataclass(frozen=True)
 class Impactor:
-    """The moving body: a sphere of radius R (m) and mass m (kg) at normal speed V (m/s);
-    ``material`` None means rigid."""
+    """The moving body: its shape (a registered model kind's, `kinds.shapes`), radius R (m)
+    and mass m (kg) at normal speed V (m/s); ``material`` None means rigid. ``options`` holds
+    the values of the [impactor] keys that only its shape reads (a sphere's ``angle`` and
+    ``inertia_factor``, a cylinder's ``length`` and ``datum_depth``), in SI."""
 
     radius: float
     mass: float
     velocity: float
     material: ElasticPlastic | None = None
     name: str = "impactor"
-    angle: float = 0.0              #: incidence from the normal, degrees (V stays normal)
-    inertia_factor: float = 0.4     #: I / (m R^2), 0.4 for a solid sphere
-    shape: str = "sphere"           #: "sphere" or "cylinder" (line contact over ``length``)
-    length: float | None = None     #: L of a cylinder, m
-    datum_depth: float | None = None  #: d of a cylinder's approach, m (None: d = L)
+    shape: str = "sphere"
+    options: dict = field(default_factory=dict)
+
+    @property
+    def angle(self) -> float:
+        """Incidence from the normal, degrees (V stays normal); 0 for shapes without one."""
+        return float(self.options.get("angle") or 0.0)
+
+    @property
+    def inertia_factor(self) -> float:
+        """I / (m R^2) of a sphere in an oblique impact."""
+        return float(self.options.get("inertia_factor", 0.4))
+
+    @property
+    def length(self) -> float | None:
+        """L of a cylinder, m."""
+        return self.options.get("length")
 
 
 @dataclass(frozen=True)
@@ -152,10 +150,27 @@ class Scene:
     title: str = ""
     text: str = ""
     source: str = ""
+    #: the values of the other [model] and [contact] keys the impactor's kind declares (its
+    #: law, unloading and friction have the fields above)
+    options: dict = field(default_factory=dict)
 
     @property
     def layered(self) -> bool:
         return bool(self.stack.layers) or self.profile is not None
+
+    @property
+    def kind(self) -> ModelKind:
+        """The registered model kind of the impactor: its shape's, oblique when the scene
+        gives an incidence angle."""
+        return kind_for(self.impactor.shape, oblique=self.impactor.angle > 0)
+
+    def kind_options(self, kind: ModelKind | None = None) -> dict:
+        """Everything a kind's model and maps read: its own keys' values, the scene's
+        contact law (as the law object), ``path`` and ``rtol``."""
+        kind = kind or self.kind
+        values = {**self.options, **self.impactor.options, "friction": self.friction,
+                  "contact_law": self.law, "unloading": self.unloading}
+        return kind.options(values) | {"path": self.path, "rtol": self.rtol}
 
     def _target(self):
         """The full target: measured profile, else the Gao-weighted stack."""
@@ -163,30 +178,17 @@ class Scene:
             return StackProfile(self.stack, self.h_star)
         return self.profile if self.profile is not None else self.stack
 
-    def require_sphere(self):
-        """InputError unless the impactor is a sphere (the models other than `impact`)."""
-        if self.impactor.shape != "sphere":
-            raise InputError(f"this command models sphere impactors only; impactor.shape = "
-                             f"\"{self.impactor.shape}\" runs with `filmscale impact`")
-
-    def model(self) -> ImpactModel:
+    def model(self, bare_substrate: bool = False, kind: ModelKind | None = None):
         """The impact model of the full target (measured profile, else the Gao-weighted
-        stack)."""
-        self.require_sphere()
-        return ImpactModel(self._target(), self.law, self.impactor.material, self.unloading)
-
-    def cylinder_model(self, bare_substrate: bool = False) -> CylinderImpactModel:
-        """The line-contact model (docs/physics.md section 6) of a cylinder scene; with
-        ``bare_substrate``, of the substrate alone (see `substrate_model`)."""
-        imp = self.impactor
+        stack), or with ``bare_substrate`` of the substrate alone: built by the impactor's
+        kind (`kind`), or by ``kind``."""
+        kind = kind or self.kind
         target = self._bare_substrate() if bare_substrate else self._target()
-        return CylinderImpactModel(target, imp.length, imp.material, imp.datum_depth)
+        return kind.build(target, self.impactor.material, self.kind_options(kind))
 
-    def substrate_model(self) -> ImpactModel:
+    def substrate_model(self, kind: ModelKind | None = None):
         """The same impact on the bare substrate (the homogeneous reference)."""
-        self.require_sphere()
-        return ImpactModel(self._bare_substrate(), self.law, self.impactor.material,
-                           self.unloading)
+        return self.model(bare_substrate=True, kind=kind)
 
     def _bare_substrate(self):
         """The substrate without its layers, with its own size effect (the last h*)."""
@@ -197,7 +199,7 @@ class Scene:
 
 
 def _profile(table: dict, stack: LayerStack, law: ContactLaw, base: Path) -> TableProfile:
-    check_keys("target.profile", table, _SECTIONS["target.profile"])
+    check_keys("target.profile", table, key_names("target.profile"))
     if "file" in table:
         if any(k in table for k in ("h_c", "E_r", "H")):
             raise InputError("target.profile takes either file or h_c/E_r/H arrays, not both")
@@ -279,23 +281,24 @@ def _in_si(where: str, table, units: dict[str, str]) -> None:
 
 def si_quantities(data: dict) -> dict:
     """A copy of scene ``data`` with every quantity written with units ("10 um", "90 GPa",
-    see `_QUANTITIES`) replaced by its SI number, so that the checks and the unit store see
-    numbers; other values are left for the checks to judge."""
+    the keys of `scene_keys` with a unit) replaced by its SI number, so that the checks and
+    the unit store see numbers; other values are left for the checks to judge."""
     data = copy.deepcopy(data)
-    _in_si("impactor", data.get("impactor"), _QUANTITIES["impactor"])
+    for section in ("impactor", "model", "contact"):
+        _in_si(section, data.get(section), quantity_units(section))
     target = data.get("target") if isinstance(data.get("target"), dict) else {}
-    _in_si("target.substrate", target.get("substrate"), _QUANTITIES["target.substrate"])
+    _in_si("target.substrate", target.get("substrate"), quantity_units("target.substrate"))
     layers = target.get("layers")
     for i, layer in enumerate(layers if isinstance(layers, list) else []):
         where = f"target.layers[{i}]"
-        _in_si(where, layer, _QUANTITIES["target.layers"])
+        _in_si(where, layer, quantity_units("target.layers"))
         cal = layer.get("calibrate") if isinstance(layer, dict) else None
         for j, source in enumerate(cal if isinstance(cal, list) else [cal]):
             at = f"{where}.calibrate" + (f"[{j}]" if isinstance(cal, list) else "")
-            _in_si(at, source, _QUANTITIES["calibrate"])
+            _in_si(at, source, _SOURCE_QUANTITIES["calibrate"])
             if isinstance(source, dict):
                 _in_si(f"{at}.substrate", source.get("substrate"),
-                       _QUANTITIES["calibrate.substrate"])
+                       _SOURCE_QUANTITIES["calibrate.substrate"])
     axes = data.get("map") if isinstance(data.get("map"), dict) else {}
     for key, unit in (("velocity", "m/s"), ("radius", "m")):
         if isinstance(axes.get(key), list) and len(axes[key]) == 3:
@@ -310,118 +313,157 @@ def parse_scene(text: str, source: str = "<scene>", base: Path | None = None) ->
     return scene_from_data(parse_toml(text, "scene", source), text, source, base)
 
 
-def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
-                    base: Path | None = None) -> Scene:
-    """Validate a scene already read from TOML (``text`` is kept for provenance)."""
-    base = Path(".") if base is None else base
-    data = si_quantities(data)
-    check_keys("scene", data, _TOP)
+def _section(where: str, data: dict, shape: str) -> dict:
+    """The table ``where`` of ``data``, its keys checked against `scene_keys`: a key of
+    another shape's kind is refused naming the shapes that read it."""
+    table = check_keys(where, data.get(where, {}), key_names(where))
+    mine = {k.name for k in section_keys(where, shape)}
+    for name in table:
+        if name not in mine:
+            used = [s for key, s in all_keys().values() if key.name == name
+                    and key.section == where][0]
+            raise InputError(f"{where}.{name} applies to {' and '.join(used)} impactors only "
+                             f"(impactor.shape = \"{shape}\")")
+    return table
 
-    imp = check_keys("impactor", required("scene", data, "impactor"), _SECTIONS["impactor"])
-    shape = check_choice("impactor.shape", imp.get("shape", "sphere"), ("sphere", "cylinder"))
+
+def _kind_values(where: str, table: dict, shape: str) -> dict:
+    """The values of the keys of ``shape``'s kinds in the section ``where``."""
+    own = [k for k in section_keys(where, shape) if k not in GENERAL_KEYS[where]]
+    return read_keys(where, table, own)
+
+
+def read_impactor(data: dict) -> Impactor:
+    """The [impactor] section: the general keys, then those of its shape's kinds."""
+    imp = check_keys("impactor", required("scene", data, "impactor"), key_names("impactor"))
+    shape = check_choice("impactor.shape", imp.get("shape", "sphere"), shapes())
+    imp = _section("impactor", data, shape)
     if ("E" in imp) != ("nu" in imp):
         raise InputError("impactor.E and impactor.nu go together: give both for an elastic "
                          "impactor, neither for a rigid one")
     imp_material = None
     if "E" in imp:
         imp_material = material("impactor", {k: imp[k] for k in ("E", "nu")},
-                                 require_yield=False)
+                                require_yield=False)
+    general = read_keys("impactor", imp, [k for k in GENERAL_KEYS["impactor"]
+                                          if k.name not in ("E", "nu", "name", "shape")])
+    impactor = Impactor(**general, material=imp_material, name=str(imp.get("name", "impactor")),
+                        shape=shape, options=_kind_values("impactor", imp, shape))
+    # the shape has a model for the angle, and the body is not lighter than itself
+    kind_for(shape, oblique=impactor.angle > 0).check_body(
+        impactor.radius, impactor.mass, impactor.options,
+        {"radius": "impactor.radius", "mass": "impactor.mass", "length": "impactor.length"})
+    return impactor
 
-    def ranged(key, bounds, unit):
-        return check_real(f"impactor.{key}", required("impactor", imp, key), low=bounds[0],
-                          high=bounds[1], low_open=True, unit=unit)
 
-    length = datum = None
-    if shape == "cylinder":
-        length = ranged("length", RADIUS_RANGE, "m")
-        if "datum_depth" in imp:
-            datum = check_real("impactor.datum_depth", imp["datum_depth"], low=0.0,
-                               high=math.inf, low_open=True, high_open=True, unit="m")
-    for key in ("length", "datum_depth"):
-        if key in imp and shape != "cylinder":
-            raise InputError(f"impactor.{key} applies to shape = \"cylinder\" only")
-    impactor = Impactor(
-        radius=ranged("radius", RADIUS_RANGE, "m"), mass=ranged("mass", MASS_RANGE, "kg"),
-        velocity=ranged("velocity", VELOCITY_RANGE, "m/s"),
-        material=imp_material, name=str(imp.get("name", "impactor")),
-        angle=check_real("impactor.angle", imp.get("angle", 0.0), low=0.0, high=90.0,
-                         high_open=True, unit="degrees"),
-        inertia_factor=check_real("impactor.inertia_factor", imp.get("inertia_factor", 0.4),
-                                  low=0.0, high=1.0, low_open=True),
-        shape=shape, length=length, datum_depth=datum)
-    contact = check_keys("contact", data.get("contact", {}), _SECTIONS["contact"])
-    friction = check_real("contact.friction", contact.get("friction", 0.0), low=0.0, high=10.0)
-    if shape == "cylinder":
-        check_cylinder_mass(impactor.radius, length, impactor.mass,
-                            ("impactor.radius", "impactor.length", "impactor.mass"))
-        if impactor.angle > 0:
-            raise InputError("impactor.angle applies to sphere impactors only: the cylinder "
-                             "model is a normal impact")
-    else:
-        check_density(impactor.radius, impactor.mass, "impactor.radius", "impactor.mass")
+def _layer(where: str, raw, pending: bool) -> tuple[Layer | None, float]:
+    """One [[target.layers]] table: the layer (None when ``pending``: its E and sigma_y
+    come from a calibration) and its Nix-Gao length."""
+    check_keys(where, raw, key_names("target.layers"))
+    thickness = check_real(f"{where}.thickness", required(where, raw, "thickness"),
+                           low=0.0, low_open=True, high=THICKNESS_MAX, unit="m")
+    props = {k: v for k, v in raw.items() if k not in ("thickness", "h_star")}
+    if pending and not {"E", "sigma_y"} <= set(props):
+        read_keys(where, props, [k for k in GENERAL_KEYS["target.layers"]
+                                 if k.name in ("nu", "n") and k.name in props])
+        return None, _h_star(where, raw)
+    return Layer(thickness, material(where, props)), _h_star(where, raw)
 
-    target = check_keys("target", required("scene", data, "target"), _SECTIONS["target"])
+
+def _stack(data: dict, pending=frozenset()) -> tuple[LayerStack | None, list[float], dict]:
+    """The [target] section: its stack (None while a layer in ``pending`` awaits its
+    calibration), the Nix-Gao lengths (layers, then substrate) and the raw table."""
+    target = check_keys("target", required("scene", data, "target"), key_names("target"))
     raw_sub = check_keys("target.substrate", required("target", target, "substrate"),
-                          _SECTIONS["target.substrate"])
+                         key_names("target.substrate"))
     substrate = material("target.substrate",
-                          {k: v for k, v in raw_sub.items() if k != "h_star"})
+                         {k: v for k, v in raw_sub.items() if k != "h_star"})
     raw_layers = target.get("layers", [])
     if not isinstance(raw_layers, list):
         raise InputError("target.layers must be an array of tables ([[target.layers]])")
     check_layer_count("target.layers", len(raw_layers))
-    layers, h_star = [], []
-    for i, raw in enumerate(raw_layers):
-        where = f"target.layers[{i}]"
-        check_keys(where, raw, _SECTIONS["target.layers"])
-        thickness = check_real(f"{where}.thickness", required(where, raw, "thickness"),
-                               low=0.0, low_open=True, high=THICKNESS_MAX, unit="m")
-        mat = material(where, {k: v for k, v in raw.items()
-                                if k not in ("thickness", "h_star")})
-        layers.append(Layer(thickness, mat))
-        h_star.append(_h_star(where, raw))
-    stack = LayerStack(tuple(layers), substrate)
-    h_star.append(_h_star("target.substrate", raw_sub))
+    parsed = [_layer(f"target.layers[{i}]", raw, i in pending)
+              for i, raw in enumerate(raw_layers)]
+    h_star = [h for _, h in parsed] + [_h_star("target.substrate", raw_sub)]
+    layers = [layer for layer, _ in parsed]
+    stack = None if None in layers else LayerStack(tuple(layers), substrate)
+    return stack, h_star, target
 
-    model = check_keys("model", data.get("model", {}), _SECTIONS["model"])
-    law_name = check_choice("model.contact_law", model.get("contact_law", "komvopoulos-ye"),
-                            LAW_NAMES)
-    options = {}
-    if "limiting_pressure_factor" in model:
-        if law_name != "thornton":
-            raise InputError("model.limiting_pressure_factor applies to contact_law = "
-                             "\"thornton\" only")
-        options["limiting_pressure_factor"] = model["limiting_pressure_factor"]
-    law = contact_law(law_name, **options)
-    sphere_keys = {"contact_law", "unloading", "limiting_pressure_factor"} & set(model)
-    if shape == "cylinder" and sphere_keys:
-        raise InputError(f"model.{sorted(sphere_keys)[0]} applies to sphere impactors: a "
-                         f"cylinder uses the line-contact law of docs/physics.md section 6")
-    unloading = check_choice("model.unloading", model.get("unloading", "auto"),
-                             ("auto",) + UNLOADING_MODELS)
-    path = check_choice("model.path", model.get("path", "fast"), ("fast", "time"))
-    rtol = check_real("model.rtol", model.get("rtol", 1e-8), low=1e-13, high=1e-2)
 
+def _model(data: dict, shape: str) -> tuple[dict, dict]:
+    """The [model] and [contact] sections: the general keys' values and the kind's own."""
+    model = _section("model", data, shape)
+    general = read_keys("model", model, GENERAL_KEYS["model"])
+    contact = _section("contact", data, shape)
+    options = _kind_values("model", model, shape) | _kind_values("contact", contact, shape)
+    if options.get("limiting_pressure_factor") is not None and \
+            options.get("contact_law") != "thornton":
+        raise InputError("model.limiting_pressure_factor applies to contact_law = "
+                         "\"thornton\" only")
+    return general, options
+
+
+def _law(options: dict) -> ContactLaw:
+    """The scene's contact law: its kind's, else the package default (what a calibration
+    fits when the scene names none)."""
+    factor = options.get("limiting_pressure_factor")
+    return contact_law(options.get("contact_law", DEFAULT_LAW),
+                       **({} if factor is None else {"limiting_pressure_factor": factor}))
+
+
+def read_map_spec(data: dict, mass: float, impactor: Impactor) -> MapSpec:
+    """The [map] section, its size and its largest body checked."""
+    mp = check_keys("map", data.get("map", {}), key_names("map"))
+    spec = MapSpec(
+        velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
+        radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
+        spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
+    if spec.velocity is not None and spec.radius is not None:
+        check_map_points(spec.velocity[2], spec.radius[2])
+    if spec.radius is not None:     # the map's largest body carries the scene's mass
+        kind_for(impactor.shape).check_body(
+            max(spec.radius[:2]), mass, impactor.options,
+            {"radius": "map.radius maximum", "mass": "impactor.mass",
+             "length": "impactor.length"})
+    return spec
+
+
+def check_scene_data(data: dict, pending=frozenset()) -> None:
+    """Every check of `scene_from_data` on ``data`` (already in SI) whose layers in
+    ``pending`` may still lack the E and sigma_y that their calibration will give."""
+    check_keys("scene", data, key_names(""))
+    impactor = read_impactor(data)
+    _stack(data, pending)
+    _model(data, impactor.shape)
+    read_map_spec(data, impactor.mass, impactor)
+
+
+def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
+                    base: Path | None = None) -> Scene:
+    """Validate a scene already read from TOML (``text`` is kept for provenance)."""
+    base = Path(".") if base is None else base
+    data = si_quantities(data)
+    check_keys("scene", data, key_names(""))
+    impactor = read_impactor(data)
+    stack, h_star, target = _stack(data)
+    general, options = _model(data, impactor.shape)
+    law = _law(options)
     profile = None
     if "profile" in target:
         profile = _profile(target["profile"], stack, law, base)
         if any(h_star):
             raise InputError("h_star (the Nix-Gao size effect of a layer) does not apply to a "
                              "measured target.profile, which holds its depth dependence")
-
-    mp = check_keys("map", data.get("map", {}), _SECTIONS["map"])
-    map_spec = MapSpec(
-        velocity=_range("map.velocity", mp["velocity"]) if "velocity" in mp else None,
-        radius=_range("map.radius", mp["radius"]) if "radius" in mp else None,
-        spacing=check_choice("map.spacing", mp.get("spacing", "log"), ("log", "linear")))
-    if map_spec.velocity is not None and map_spec.radius is not None:
-        check_map_points(map_spec.velocity[2], map_spec.radius[2])
-    if map_spec.radius is not None:     # the map's largest sphere carries the scene's mass
-        check_density(max(map_spec.radius[:2]), impactor.mass, "map.radius maximum",
-                      "impactor.mass")
-    return Scene(impactor=impactor, stack=stack, law=law, unloading=unloading, path=path,
-                 rtol=rtol, profile=profile, h_star=tuple(h_star) if any(h_star) else (),
-                 map=map_spec, friction=friction, title=str(data.get("title", "")),
-                 text=text, source=source)
+    return Scene(impactor=impactor, stack=stack, law=law,
+                 unloading=options.get("unloading", "auto"), path=general["path"],
+                 rtol=general["rtol"], profile=profile,
+                 h_star=tuple(h_star) if any(h_star) else (),
+                 map=read_map_spec(data, impactor.mass, impactor),
+                 friction=float(options.get("friction", 0.0)),
+                 title=str(data.get("title", "")), text=text, source=source,
+                 options={k: v for k, v in options.items()
+                          if k not in ("contact_law", "unloading", "friction",
+                                       "limiting_pressure_factor")})
 
 
 def load_scene(path) -> Scene:

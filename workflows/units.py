@@ -232,37 +232,47 @@ def joint_unit(name: str, parts, part_units: list[Path], store: Path
 
 
 def _impact_arrays(scene: Scene, plan: Plan, history: bool) -> dict[str, np.ndarray]:
-    """The point (and history, map) results of the plan's model on ``scene``."""
-    from filmscale.continuum.contact.impact_map import impact_map
-    model = chosen_model(scene, plan.decisions["target"], plan.decisions["law"])
-    imp = scene.impactor
-    one = model.maxima(imp.velocity, imp.radius, imp.mass).result()
+    """The point (and history, map) results of the plan's model on ``scene``: the normal
+    impact of the plan's model kind, with the oblique kind's tangential results at the
+    point."""
+    from filmscale.continuum.contact.kinds import kind_for, kind_named
+    kind = kind_named(plan.decisions.get("kind", "sphere"))
+    normal = kind_for(kind.shape)
+    model = chosen_model(scene, plan.decisions["target"], plan.decisions["law"], normal)
+    imp, options = scene.impactor, scene.kind_options(normal)
+    one = normal.solve(model, imp.velocity, imp.radius, imp.mass, options)
     arrays = {f"point/{k}": v for k, v in asdict(one).items()
               if isinstance(v, (int, float)) and not isinstance(v, bool)}
-    if plan.decisions.get("direction") == "oblique":
-        from filmscale.continuum.contact.oblique import REGIMES, solve_oblique
-        res = solve_oblique(model, imp.velocity, imp.radius, imp.mass, plan.decisions["angle"],
-                            plan.decisions["friction"], inertia_factor=imp.inertia_factor)
-        arrays.update({f"point/{k}": getattr(res, k) for k in (
-            "angle", "friction", "restitution_tangential", "restitution_contact_point",
-            "impulse_ratio", "rebound_angle", "spin")})
-        # an index into continuum.contact.oblique.REGIMES: the store holds numbers
-        arrays["point/regime_tangential"] = REGIMES.index(res.regime_tangential)
+    if kind.oblique:
+        arrays.update(_tangential_point(scene, plan, kind, model))
     if history:
-        hist = model.history(imp.velocity, imp.radius, imp.mass, rtol=scene.rtol)
+        hist = normal.history(model, imp.velocity, imp.radius, imp.mass, options)
         arrays.update({f"history/{k}": getattr(hist, k)
-                       for k in ("time", "delta", "velocity", "force", "contact_radius")})
+                       for k in ("time", "delta", "velocity", "force", normal.size)})
     if plan.decisions.get("map"):
         V, R = scene.map.axes()
-        mp = impact_map(model, V, R, imp.mass)
+        mp = normal.impact_map(model, V, R, imp.mass, options)
         arrays.update({f"map/{k}": np.asarray(v) for k, v in mp.to_dict().items()
                        if np.asarray(v).dtype.kind in "fiub"})
     return arrays
 
 
+def _tangential_point(scene: Scene, plan: Plan, kind, model) -> dict:
+    """The oblique kind's tangential results at the scene's point."""
+    imp = scene.impactor
+    options = scene.kind_options(kind) | {"angle": plan.decisions["angle"],
+                                          "friction": plan.decisions["friction"]}
+    from filmscale.continuum.contact.oblique import OBLIQUE_FIELDS, REGIMES
+    res = kind.solve(model, imp.velocity, imp.radius, imp.mass, options)
+    arrays = {f"point/{k}": getattr(res, k) for k in ("angle", "friction", *OBLIQUE_FIELDS)}
+    # an index into the regimes of the oblique result: the store holds numbers
+    arrays["point/regime_tangential"] = REGIMES.index(res.regime_tangential)
+    return arrays
+
+
 #: point and map results that carry a standard deviation from the calibrations
 UNCERTAIN = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max",
-             "contact_time", "residual_depth", "restitution")
+             "contact_half_width", "contact_time", "residual_depth", "restitution")
 
 
 def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=(), correlation=None):

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from filmscale.continuum.contact.laws import ContactLaw
+from filmscale.continuum.contact.laws import FIT_LAW, ContactLaw
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.reverse import E_I_DAO, NU_I_DAO
 from filmscale.continuum.indentation.tips import Sphere, parse_tip
@@ -51,7 +51,7 @@ def sharp_tip_of(curves) -> object | None:
 
 def calibrate(curves, *, nu: float, tip=None, tip_material: str = "diamond",
               thickness: float | None = None, substrate: ElasticPlastic | None = None,
-              law: str | ContactLaw = "komvopoulos-ye-continuous",
+              law: str | ContactLaw = FIT_LAW,
               layer: str = "layer", contact_zero: str | None = None) -> Calibration:
     """E, sigma_y (and n for sharp tips) of a layer from its curves.
 

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from filmscale.continuum.contact.laws import ContactLaw, contact_law
+from filmscale.continuum.contact.laws import FIT_LAW, ContactLaw, contact_law
 from filmscale.continuum.indentation.curves import LoadDisplacementCurve
 from filmscale.continuum.indentation.oliver_pharr import check_curve_modulus
 from filmscale.continuum.indentation.spherical import check_tip_shape, hertz_fit, loading_points
@@ -69,7 +69,7 @@ SNEDDON_FROM = 0.05
 
 
 def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
-                     law: str | ContactLaw = "komvopoulos-ye-continuous",
+                     law: str | ContactLaw = FIT_LAW,
                      elastic: str = "auto",
                      indenter: ElasticPlastic | None = None, n: float = 0.0,
                      split_at_pop_in: bool = True, thickness: float | None = None,

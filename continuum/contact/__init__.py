@@ -16,7 +16,7 @@ from filmscale.core.lazy import lazy_exports
 #: public name -> the submodule that defines it (imported on first use, so that the
 #: command line starts without loading scipy's heavier parts)
 _WHERE = {
-    "CylinderImpactModel": "cylinder", "CylinderImpactResult": "cylinder",
+    "CylinderImpactModel": "cylinder", "CylinderImpactResult": "results",
     "elastic_impact": "hertz", "elastic_impact_time": "hertz", "first_yield": "hertz",
     "yield_velocity": "hertz",
     "ImpactModel": "impact", "solve_impact": "impact",
@@ -24,7 +24,7 @@ _WHERE = {
     "LAW_NAMES": "laws", "ContactLaw": "laws", "Hertz": "laws", "JacksonGreen": "laws",
     "KogutEtsion": "laws", "KomvopoulosYe": "laws", "Thornton": "laws", "contact_law": "laws",
     "ObliqueResult": "oblique", "solve_oblique": "oblique", "oblique_map": "oblique",
-    "CylinderImpactHistory": "cylinder", "CylinderMap": "impact_map",
+    "CylinderImpactHistory": "results", "GridMap": "impact_map",
     "cylinder_map": "impact_map",
     "SneddonElastic": "sneddon", "sneddon_force": "sneddon",
     "coated_solution": "coated", "coated_sphere_load": "coated",
@@ -32,6 +32,8 @@ _WHERE = {
     "DepthProfile": "profiles", "StackProfile": "profiles", "TableProfile": "profiles",
     "UniformProfile": "profiles",
     "UNLOADING_MODELS": "restitution", "thornton_restitution": "restitution",
+    "ModelKind": "kinds", "KINDS": "kinds", "register": "kinds", "kind_named": "kinds",
+    "kind_for": "kinds",
     "ImpactHistory": "results", "ImpactMaxima": "results", "ImpactResult": "results",
 }
 

@@ -39,21 +39,19 @@ histories). SI units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
-                                   check_choice, check_real)
+                                   check_real)
 from filmscale.core.errors import InputError, ModelRangeError
-from filmscale.core.jsonable import to_jsonable
-from filmscale.core.quantities import eng
 
-from .impact import sample_pieces
+from .events import Event, HistoryOptions, PiecewiseRun, check_history_options
 from .profiles import DepthProfile, checked_bodies
 from .quadrature import integrate
-from .results import rebound_lines
+from .results import CylinderImpactHistory, CylinderImpactResult
 
 #: p_fp / sigma_Y for a fully plastic line contact: (2 + pi) k with von Mises k = sigma_Y/sqrt(3)
 FULLY_PLASTIC_FACTOR = (2.0 + math.pi) / math.sqrt(3.0)
@@ -62,7 +60,6 @@ WIDTH_LIMIT = 0.2
 REGIME_NAMES = ("elastic", "contained plastic", "fully plastic")
 _QUAD = dict(epsabs=0.0, epsrel=1e-12, limit=200)
 _OCTAVES = 60     # work quadrature pieces: b_hi x (1, 1/2, ..., 2^-60), then to b_lo
-_T_BOUND = 1e6    # integration limit in units of delta_ref / V (events end it earlier)
 
 
 def cylinder_yield_factor(nu):
@@ -116,60 +113,6 @@ def line_half_width(delta, R, datum, nu):
     with np.errstate(divide="ignore"):
         u = -0.5 * lambertw(-2.0 * z, k=-1).real
     return np.where(delta > 0, 2.0 * datum * np.exp(-_kappa(nu) - u), 0.0)
-
-
-@dataclass(frozen=True)
-class CylinderImpactResult:
-    """One cylinder impact; SI units. Forces are totals over the length (P = L P')."""
-
-    velocity: float             #: V, incident normal velocity, m/s
-    radius: float               #: R, cylinder radius, m
-    length: float               #: L, contact length, m
-    mass: float                 #: m, moving mass, kg
-    datum_depth: float          #: d, depth of the approach datum, m
-    delta_max: float            #: maximum approach, m
-    force_max: float            #: largest contact force, N
-    line_load_max: float        #: largest load per unit length, N/m
-    mean_pressure_max: float    #: largest mean contact pressure P'/(2b), Pa
-    contact_half_width: float   #: largest contact half-width b, m
-    contact_time: float         #: duration of contact, s
-    loading_time: float         #: contact to maximum approach, s
-    unloading_time: float       #: maximum approach to separation, s
-    residual_depth: float       #: depth of the groove left behind, m
-    restitution: float          #: e_y = rebound speed / V
-    rebound_velocity: float     #: m/s
-    work_loading: float         #: integral of P over the loading approach, J
-    work_unloading: float       #: work returned on unloading, J
-    dissipated: float           #: work_loading - work_unloading, J
-    yielded: bool               #: first yield (p0 = C sigma_Y) was reached
-    regime: str                 #: regime at maximum approach, one of REGIME_NAMES
-    yield_approach: float       #: approach at first yield, m (inf if out of range)
-    yield_velocity: float       #: impact speed that just reaches first yield, m/s
-    path: str                   #: "energy-quadrature" or "time-integration"
-    shape: str = "cylinder"
-    approximation: str = ("plane strain over the length L, end effects neglected; approach "
-                          "from the datum depth d")
-    warnings: tuple[str, ...] = ()
-
-    def to_dict(self) -> dict:
-        """The result as JSON values (infinities become None)."""
-        return to_jsonable(self)
-
-    def summary(self) -> str:
-        lines = [
-            f"Impact of a cylinder R = {eng(self.radius, 'm')}, L = {eng(self.length, 'm')}, "
-            f"m = {eng(self.mass, 'kg')} at V = {eng(self.velocity, 'm/s')} (line contact, "
-            f"datum d = {eng(self.datum_depth, 'm')}, {self.path})",
-            f"  maximum approach      {eng(self.delta_max, 'm')}",
-            f"  maximum force         {eng(self.force_max, 'N')} "
-            f"({eng(self.line_load_max, 'N/m')})",
-            f"  maximum mean pressure {eng(self.mean_pressure_max, 'Pa')}",
-            f"  contact half-width    {eng(self.contact_half_width, 'm')}",
-            *rebound_lines(self),
-            f"  approximation         {self.approximation}",
-        ]
-        lines += [f"  warning: {w}" for w in self.warnings]
-        return "\n".join(lines)
 
 
 def check_cylinder_mass(radius, length, mass, names=("radius", "length", "mass")) -> float:
@@ -423,7 +366,7 @@ class CylinderImpactModel:
                 method="DOP853") -> CylinderImpactHistory:
         """One impact integrated in time: m d2(delta)/dt2 = -L P'(delta) with terminal,
         directional events for maximum approach, the fully plastic cap, the range limit and
-        separation.
+        separation (`events`).
 
         Parameters
         ----------
@@ -437,136 +380,132 @@ class CylinderImpactModel:
         method : str
             A `scipy.integrate.solve_ivp` method.
         """
-        from scipy.integrate import solve_ivp
         V, R, m = self._inputs(velocity, radius, mass)
-        rtol = check_real("rtol", rtol, low=1e-13, high=1e-2)
-        check_choice("method", method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
-        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
-            raise InputError(f"samples = {samples!r} must be an integer >= 2")
+        options = check_history_options(rtol, samples, method)
         tables = self.tables(R)
-        L = self.length
-        # scales: the elastic impact against the surface's properties
-        e0, _, nu0 = (float(p) for p in self.properties(0.0, R))
-        energy = 0.5 * m * V * V / L
-
-        def surface_work(b):
-            return float(line_work(b, R, e0, self.datum_depth, nu0))
-        b_ref = (_solve_increasing(lambda b: surface_work(b) - energy, tables.b_limit)
-                 if surface_work(tables.b_limit) > energy else tables.b_limit)
-        d_ref = float(line_approach(b_ref, R, self.datum_depth, nu0))
-        t_ref, accel = d_ref / V, d_ref * L / (m * V * V)
-        options = dict(method=method, rtol=rtol, atol=rtol * 1e-3, dense_output=True)
-
-        def event(fun, direction, terminal=True):
-            fun.terminal, fun.direction = terminal, direction
-            return fun
-
-        d_limit = float(self.approach(tables.b_limit, R))
-
-        def loading(_, y):
-            b = self.half_width(min(max(y[0] * d_ref, 0.0), d_limit), R, tables)
-            return [y[1], -self.line_load(b, R, tables) * accel]
-
-        limits = [d_limit]
-        if tables.b_plastic < tables.b_limit:
-            limits.insert(0, float(self.approach(tables.b_plastic, R)))
-        # first yield changes no law: a non-terminal event only dates it
-        y_yield = (float(self.approach(tables.b_yield, R)) / d_ref
-                   if tables.b_yield < tables.b_limit else math.inf)
-        pieces, events = [], {"contact": 0.0}   # pieces: (dense solution, phase, t_a, t_b)
-        y0, t0 = np.array([0.0, 1.0]), 0.0
-        for limit in limits:      # the cap's kink is a stop, so no step straddles it
-            sol = solve_ivp(loading, (t0, t0 + _T_BOUND), y0, **options,
-                            events=[event(lambda t, y: y[1], -1),
-                                    event(lambda t, y, x=limit / d_ref: y[0] - x, 1),
-                                    event(lambda t, y: y[0] - y_yield, 1, terminal=False)])
-            hit = [k for k in (0, 1) if sol.t_events[k].size]
-            if not hit:
-                raise ModelRangeError(f"time integration stopped without an event: "
-                                      f"{sol.message}")
-            i = min(hit, key=lambda k: sol.t_events[k][0])
-            pieces.append((sol, 1, t0, sol.t_events[i][0]))
-            if sol.t_events[2].size:
-                events[f"regime {REGIME_NAMES[1]}"] = float(sol.t_events[2][0] * t_ref)
-            t0, y0 = sol.t_events[i][0], sol.y_events[i][0]
-            if i == 0:
-                break
-            events[f"regime {REGIME_NAMES[2]}"] = float(t0 * t_ref)
-        else:
-            raise self._range_error(V, R, m, tables)
-        events["maximum approach"] = float(t0 * t_ref)
-        b_max, t_load = self.half_width(y0[0] * d_ref, R, tables), t0 * t_ref
+        run = _CylinderIntegration(self, V, R, m, tables, options)
+        run.loading()
+        b_max = self.half_width(run.pieces.y[0] * run.d_ref, R, tables)
+        t_load = run.pieces.t * run.t_ref
         unl = self._unloading(b_max, R, tables)
         residual = 0.0 if unl is None else unl[3]
-        if unl is None:
-            unloading = loading
-
-            def unloading_width(delta):
-                return np.array([self.half_width(min(x, d_limit), R, tables) for x in delta])
-
-            def unloading_load(b):
-                return self.line_load(b, R, tables)
-        else:
-            r_new, e_star, nu = unl[:3]
-
-            def unloading_width(delta):
-                return line_half_width(delta - residual, r_new, self.datum_depth, nu)
-
-            def unloading_load(b):
-                return line_load(b, r_new, e_star)
-
-            def unloading(_, y):
-                b = float(unloading_width(y[0] * d_ref))
-                return [y[1], -float(unloading_load(b)) * accel]
-        sol = solve_ivp(unloading, (t0, t0 + _T_BOUND), y0, **options,
-                        events=[event(lambda t, y: y[0] - residual / d_ref, -1)])
-        if not sol.t_events[0].size:
-            raise ModelRangeError(f"time integration stopped before separation: {sol.message}")
-        pieces.append((sol, 2, t0, sol.t_events[0][0]))
-        t_sep, rebound = sol.t_events[0][0] * t_ref, -sol.y_events[0][0][1] * V
-        events["separation"] = float(t_sep)
+        width_of, load_of, t_sep, rebound = run.unloading(unl, residual)
         result = self._result(V, R, m, b_max, tables, t_load, t_sep - t_load, rebound,
                               "time-integration")
-
-        time, delta, vel, phase = sample_pieces(pieces, samples, t_ref, d_ref, V)
-        load = phase == 1
-        width = np.empty_like(delta)
-        # dense output overshoots the events by round-off: keep delta inside the laws' range
-        width[load] = [self.half_width(min(max(x, 0.0), d_limit), R, tables)
-                       for x in delta[load]]
-        width[~load] = unloading_width(np.maximum(delta[~load], residual))
-        line = np.where(load, self.line_load(width, R, tables), unloading_load(width))
-        branch = np.where(load, np.where(width >= tables.b_plastic, 2,
-                                         (width >= tables.b_yield).astype(int)),
-                          REGIME_NAMES.index(result.regime))
+        time, delta, vel, phase, _ = run.pieces.sample(run.t_ref, run.d_ref, V)
+        width, line, branch = run.sampled(delta, phase, width_of, load_of, residual,
+                                          REGIME_NAMES.index(result.regime))
         with np.errstate(invalid="ignore", divide="ignore"):
             mean_p = np.where(width > 0, line / (2.0 * width), 0.0)
         return CylinderImpactHistory(
-            result=result, time=time, delta=delta, velocity=vel, force=L * line,
+            result=result, time=time, delta=delta, velocity=vel, force=self.length * line,
             contact_half_width=width, mean_pressure=mean_p, branch=branch, phase=phase,
-            events=events, nfev=sum(p[0].nfev for p in pieces))
+            events=run.events, nfev=sum(p.sol.nfev for p in run.pieces.pieces))
 
 
-@dataclass(frozen=True)
-class CylinderImpactHistory:
-    """Time-integrated cylinder impact: the maxima plus sampled histories (SI units).
+class _CylinderIntegration:
+    """One cylinder impact in time: the scales (the elastic impact against the surface's
+    properties), the loading law, the pieces and the event times (s)."""
 
-    ``phase`` is 1 loading, 2 unloading (contact starts at t = 0); ``branch`` indexes
-    REGIME_NAMES: the regime of each loading sample, the regime at maximum approach while
-    unloading.
-    """
+    def __init__(self, model: CylinderImpactModel, V, R, m, tables: CylinderBreakpoints,
+                 options: HistoryOptions):
+        self.model, self.V, self.R, self.m, self.tables = model, V, R, m, tables
+        L, datum = model.length, model.datum_depth
+        e0, _, nu0 = (float(p) for p in model.properties(0.0, R))
+        energy = 0.5 * m * V * V / L
 
-    result: CylinderImpactResult
-    time: np.ndarray                #: s
-    delta: np.ndarray               #: approach from the datum, m
-    velocity: np.ndarray            #: d(delta)/dt, m/s
-    force: np.ndarray               #: total force L P', N
-    contact_half_width: np.ndarray  #: b, m
-    mean_pressure: np.ndarray       #: P'/(2b), Pa
-    branch: np.ndarray
-    phase: np.ndarray
-    events: dict = field(default_factory=dict)  #: event name -> time, s
-    nfev: int = 0                   #: right-hand-side evaluations of the integrator
+        def surface_work(b):
+            return float(line_work(b, R, e0, datum, nu0))
+        b_ref = (_solve_increasing(lambda b: surface_work(b) - energy, tables.b_limit)
+                 if surface_work(tables.b_limit) > energy else tables.b_limit)
+        self.d_ref = float(line_approach(b_ref, R, datum, nu0))
+        self.t_ref, self.accel = self.d_ref / V, self.d_ref * L / (m * V * V)
+        self.d_limit = float(model.approach(tables.b_limit, R))
+        self.pieces = PiecewiseRun(0.0, np.array([0.0, 1.0]), options)
+        self.events = {"contact": 0.0}
+
+    def loading_width(self, delta):
+        """Half-width (m) at approach delta (m), held in the laws' range [0, d_limit]."""
+        return self.model.half_width(min(max(delta, 0.0), self.d_limit), self.R, self.tables)
+
+    def loading_rhs(self, _, y):
+        b = self.loading_width(y[0] * self.d_ref)
+        return [y[1], -self.model.line_load(b, self.R, self.tables) * self.accel]
+
+    def loading(self):
+        """Loading pieces to the maximum approach: one to the fully plastic cap, whose kink is
+        a stop so that no step straddles it, then one to the range limit (ModelRangeError).
+        First yield changes no law: a non-terminal event only dates it."""
+        model, tables, R = self.model, self.tables, self.R
+        limits = [self.d_limit]
+        if tables.b_plastic < tables.b_limit:
+            limits.insert(0, float(model.approach(tables.b_plastic, R)))
+        y_yield = (float(model.approach(tables.b_yield, R)) / self.d_ref
+                   if tables.b_yield < tables.b_limit else math.inf)
+        for limit in limits:
+            y_stop = limit / self.d_ref
+            stop = self.pieces.advance(self.loading_rhs, {
+                "maximum approach": Event(lambda t, y: y[1], -1),
+                "cap or range limit": Event(lambda t, y: y[0] - y_stop, 1),
+                "first yield": Event(lambda t, y: y[0] - y_yield, 1, terminal=False)}, phase=1)
+            if stop.fired["first yield"].size:
+                self.events[f"regime {REGIME_NAMES[1]}"] = float(
+                    stop.fired["first yield"][0] * self.t_ref)
+            if stop.event == "maximum approach":
+                self.events["maximum approach"] = float(stop.t * self.t_ref)
+                return
+            self.events[f"regime {REGIME_NAMES[2]}"] = float(stop.t * self.t_ref)
+        raise model._range_error(self.V, R, self.m, tables)
+
+    def unloading(self, unl, residual):
+        """The unloading piece to separation (approach back at the residual depth): along the
+        loading curve from the elastic branches (``unl`` None), else by the elastic law
+        around the crater radius (`CylinderImpactModel._unloading`). Returns the half-width
+        (m) at an array of approaches, the load per unit length (N/m) at half-widths, the
+        separation time (s) and the rebound speed (m/s)."""
+        model, R, tables = self.model, self.R, self.tables
+        if unl is None:
+            rhs = self.loading_rhs
+
+            def width_of(delta):
+                return np.array([model.half_width(min(x, self.d_limit), R, tables)
+                                 for x in delta])
+
+            def load_of(b):
+                return model.line_load(b, R, tables)
+        else:
+            r_new, e_star, nu = unl[:3]
+
+            def width_of(delta):
+                return line_half_width(delta - residual, r_new, model.datum_depth, nu)
+
+            def load_of(b):
+                return line_load(b, r_new, e_star)
+
+            def rhs(_, y):
+                b = float(width_of(y[0] * self.d_ref))
+                return [y[1], -float(load_of(b)) * self.accel]
+        y_sep = residual / self.d_ref
+        stop = self.pieces.advance(rhs, {"separation": Event(lambda t, y: y[0] - y_sep, -1)},
+                                   phase=2, stopped="before separation")
+        t_sep = stop.t * self.t_ref
+        self.events["separation"] = float(t_sep)
+        return width_of, load_of, t_sep, -stop.y[1] * self.V
+
+    def sampled(self, delta, phase, width_of, load_of, residual, regime):
+        """Half-width (m), load per unit length (N/m) and branch at the samples: the loading
+        law's while loading (the branch where b crosses first yield and the cap), the
+        unloading's after (the branch at maximum approach, ``regime``)."""
+        tables = self.tables
+        load = phase == 1
+        width = np.empty_like(delta)
+        # dense output overshoots the events by round-off: keep delta inside the laws' range
+        width[load] = [self.loading_width(x) for x in delta[load]]
+        width[~load] = width_of(np.maximum(delta[~load], residual))
+        line = np.where(load, self.model.line_load(width, self.R, tables), load_of(width))
+        branch = np.where(load, np.where(width >= tables.b_plastic, 2,
+                                         (width >= tables.b_yield).astype(int)), regime)
+        return width, line, branch
 
 
 def _turning_integrand(u, b_turn, slope, slope_turn, left, load_turn, scale):

@@ -41,18 +41,6 @@ CYLINDER_STATUS_MESSAGES = {OK: "ok", EXCEEDS_RADIUS: "the contact half-width wo
                             "computed"}
 
 
-def _oblique_fields() -> dict[str, str]:
-    from .oblique import OBLIQUE_FIELDS     # oblique builds on this module
-    return OBLIQUE_FIELDS
-
-
-def map_units() -> dict[str, str]:
-    """The unit of every array a map's ``to_dict`` may hold (sphere, oblique and cylinder
-    results share names and units); status, regime and flags are "1"."""
-    return {**ImpactMaxima.UNITS, **CYLINDER_UNITS, **_oblique_fields(), "angle": "degrees",
-            "status": "1", "regime": "1", "yielded": "1"}
-
-
 def row_dimension(arrays: dict) -> str:
     """The quantity a map's rows vary: "angle" for an oblique map over (V, angle), "radius"
     otherwise (the other one, if present, is repeated along the rows)."""
@@ -60,13 +48,18 @@ def row_dimension(arrays: dict) -> str:
     return "angle" if angle is not None and np.ptp(angle) > 0 else "radius"
 
 
-def map_dataset(arrays: dict, attrs: dict | None = None):
+#: the units of a map's axes and flags
+AXIS_UNITS = {"velocity": "m/s", "radius": "m", "mass": "kg", "angle": "degrees",
+              "status": "1", "regime": "1", "yielded": "1"}
+
+
+def map_dataset(arrays: dict, attrs: dict | None = None, units: dict | None = None):
     """An xarray Dataset of a map's arrays (the ``to_dict`` form, or a map read from a file):
     dimensions (row, "velocity") with the row quantity of `row_dimension`, the other row
     quantity and the mass as coordinates, every (row, V) array a variable; ``units``
-    attributes from `map_units` (SI, angles in degrees)."""
+    attributes from ``units`` (the map's result units; SI, angles in degrees)."""
     import xarray as xr
-    units = map_units()
+    units = AXIS_UNITS | (units or {})
     row = row_dimension(arrays)
     coords = {"velocity": ("velocity", np.asarray(arrays["velocity"]), {"units": "m/s"}),
               "mass": ((), float(arrays["mass"]), {"units": "kg"})}
@@ -84,12 +77,10 @@ class _Tables:
     def to_xarray(self):
         """A Dataset over (radius or angle, velocity): every result field with its units, the
         out-of-range points NaN, ``yielded`` boolean; attributes: shape, regime names."""
-        d = self.to_dict()
-        attrs = {"shape": self.shape, "regime_names": list(self.regime_names),
-                 "range_limit": self.range_limit}
-        if isinstance(self, CylinderMap):
-            attrs["length"] = self.length
-        return map_dataset(d, attrs)
+        attrs = {"shape": self.shape, "kind": self.kind,
+                 "regime_names": list(self.regime_names), "range_limit": self.range_limit,
+                 **self.attrs}
+        return map_dataset(self.to_dict(), attrs, self.units)
 
     def to_dataframe(self):
         """A long table: one row per (radius or angle, velocity) point, a column per field,
@@ -123,7 +114,8 @@ class ImpactMap(_Tables):
     """Maxima on the grid ``radius`` (rows) x ``velocity`` (columns).
 
     An oblique map (`continuum.contact.oblique.oblique_map`) adds the incidence angle of each
-    row and its tangential results; its rows vary the radius or the angle, the other repeated.
+    row and its tangential results with their units; its rows vary the radius or the angle,
+    the other repeated.
     """
 
     velocity: np.ndarray        #: V, m/s, shape (n_V,)
@@ -133,10 +125,24 @@ class ImpactMap(_Tables):
     angle: np.ndarray | None = None     #: incidence of each row (oblique), degrees
     #: oblique results (`oblique.OBLIQUE_FIELDS`), each of shape (n_R, n_V)
     tangential: dict = dataclasses.field(default_factory=dict)
+    #: the unit of each tangential result
+    tangential_units: dict = dataclasses.field(default_factory=dict)
     shape: ClassVar[str] = "sphere"
     fields: ClassVar[dict] = MAP_FIELDS
     range_limit: ClassVar[str] = "approach > R"
     status_messages: ClassVar[dict] = STATUS_MESSAGES
+    attrs: ClassVar[dict] = {}
+
+    @property
+    def kind(self) -> str:
+        """The registered model kind (`kinds.KINDS`) that made the map."""
+        return "sphere-oblique" if self.tangential else "sphere"
+
+    @property
+    def units(self) -> dict[str, str]:
+        """The unit of every result field."""
+        return {**{k: v for k, v in ImpactMaxima.UNITS.items()
+                   if k not in ("velocity", "radius", "mass")}, **self.tangential_units}
 
     @property
     def out_of_range(self) -> np.ndarray:
@@ -159,8 +165,10 @@ class ImpactMap(_Tables):
         return np.asarray(getattr(self.maxima, name), dtype=float)
 
     @classmethod
-    def from_arrays(cls, arrays: dict, regime_names=(), contact_law: str = "") -> ImpactMap:
-        """The map of a ``to_dict`` (as a map file or a scene result holds it)."""
+    def from_arrays(cls, arrays: dict, regime_names=(), contact_law: str = "",
+                    tangential_units: dict | None = None) -> ImpactMap:
+        """The map of a ``to_dict`` (as a map file or a scene result holds it);
+        ``tangential_units`` names the oblique results it may hold, with their units."""
         V, R = np.asarray(arrays["velocity"]), np.asarray(arrays["radius"])
         shape = (R.size, V.size)
         fields = {k: np.asarray(arrays[k]) for k in ImpactMaxima.UNITS
@@ -170,10 +178,12 @@ class ImpactMap(_Tables):
             mass=np.full(shape, float(arrays["mass"])), yielded=np.asarray(arrays["yielded"], bool),
             regime=np.asarray(arrays["regime"]), status=np.asarray(arrays["status"]),
             regime_names=tuple(regime_names), contact_law=contact_law, unloading="", **fields)
-        tangential = {k: np.asarray(arrays[k]) for k in arrays if k in _oblique_fields()}
+        units = tangential_units or {}
+        tangential = {k: np.asarray(arrays[k]) for k in arrays if k in units}
         return cls(velocity=V, radius=R, mass=float(arrays["mass"]), maxima=maxima,
                    angle=None if "angle" not in arrays else np.asarray(arrays["angle"]),
-                   tangential=tangential)
+                   tangential=tangential,
+                   tangential_units={k: units[k] for k in tangential})
 
     def to_dict(self) -> dict:
         """Arrays in SI for the store: axes, every result field, status and regime."""
@@ -216,35 +226,45 @@ def impact_map(model: ImpactModel, velocity, radius, mass, progress=None) -> Imp
 
 
 @dataclass(frozen=True)
-class CylinderMap(_Tables):
-    """Cylinder maxima (`CylinderImpactModel.maxima`) on the grid ``radius`` (rows) x
-    ``velocity`` (columns), at the model's length."""
+class GridMap(_Tables):
+    """Maxima of a model kind computed one impact at a time, on the grid ``radius`` (rows) x
+    ``velocity`` (columns): the map of the cylinder and of any kind without a vectorised
+    path. What the kind declares (its fields, units, regimes, status codes, range) travels
+    with the map."""
 
     velocity: np.ndarray        #: V, m/s, shape (n_V,)
     radius: np.ndarray          #: R, m, shape (n_R,)
     mass: float                 #: kg
-    length: float               #: L, m
-    values: dict                #: CYLINDER_UNITS name -> (n_R, n_V) floats, NaN out of range
-    regime: np.ndarray          #: index into REGIME_NAMES, -1 out of range
-    status: np.ndarray          #: a key of CYLINDER_STATUS_MESSAGES
-    shape: ClassVar[str] = "cylinder"
-    fields: ClassVar[dict] = CYLINDER_MAP_FIELDS
-    range_limit: ClassVar[str] = "half-width > min(R, d/5)"
-    status_messages: ClassVar[dict] = CYLINDER_STATUS_MESSAGES
-    regime_names: ClassVar[tuple[str, ...]] = REGIME_NAMES
+    values: dict                #: field name -> (n_R, n_V) floats, NaN out of range
+    regime: np.ndarray          #: index into ``regime_names``, -1 out of range
+    status: np.ndarray          #: a key of ``status_messages``
+    kind: str                   #: the registered model kind
+    shape: str                  #: the impactor shape
+    fields: dict                #: the fields a plot shows, with units
+    units: dict                 #: every field of ``values``, with units
+    regime_names: tuple[str, ...]
+    status_messages: dict
+    range_limit: str            #: what the out-of-range points exceed, in words
+    #: the body's own lengths, m (a cylinder's length L), written as root attributes of a file
+    attrs: dict = dataclasses.field(default_factory=dict)
 
     @property
     def out_of_range(self) -> np.ndarray:
-        """True where the contact would be wider than min(R, d/5) (not computed)."""
+        """True where the model's range is exceeded (not computed)."""
         return self.status == EXCEEDS_RADIUS
 
     @property
     def yielded(self) -> np.ndarray:
         return self.regime >= 1
 
+    @property
+    def length(self) -> float | None:
+        """A cylinder's contact length L (m); None for other shapes."""
+        return self.attrs.get("length")
+
     def field(self, name: str) -> np.ndarray:
         """One result as an (n_R, n_V) float array, NaN where out of range."""
-        check_choice("map field", name, tuple(CYLINDER_UNITS))
+        check_choice("map field", name, tuple(self.units))
         return self.values[name]
 
     def to_dict(self) -> dict:
@@ -254,31 +274,48 @@ class CylinderMap(_Tables):
                 **self.values}
 
 
-def cylinder_map(model: CylinderImpactModel, velocity, radius, mass,
-                 progress=None) -> CylinderMap:
-    """`CylinderImpactModel.maxima` at every (R, V) pair of the two 1-D axes, one impact at
-    a time (no vectorised path: about 40 ms a point on a uniform target).
-
-    ``progress(done, total)`` is called after each radius.
-    """
+def grid_map(model, velocity, radius, mass, *, kind: str, shape: str, fields: dict,
+             units: dict, regime_names, status_messages, range_limit: str,
+             attrs: dict | None = None, progress=None) -> GridMap:
+    """``model.maxima(V, R, mass)`` (one impact, a result carrying every field of ``units``
+    and its ``regime`` name) at every (R, V) pair of the two 1-D axes; points where the model
+    raises ModelRangeError are out of range. ``progress(done, total)`` after each radius."""
     velocity, radius = _map_axes(velocity, radius)
     mass = check_positive("mass", mass, "kg")
-    # the lightest allowed mass grows with R: check the largest radius once
-    check_cylinder_mass(float(radius.max()), model.length, mass)
-    shape = (radius.size, velocity.size)
-    values = {k: np.full(shape, np.nan) for k in CYLINDER_UNITS}
-    regime = np.full(shape, -1)
-    status = np.full(shape, EXCEEDS_RADIUS)
+    shape_ = (radius.size, velocity.size)
+    values = {k: np.full(shape_, np.nan) for k in units}
+    regime = np.full(shape_, -1)
+    status = np.full(shape_, EXCEEDS_RADIUS)
     for i, R in enumerate(radius):
         for j, V in enumerate(velocity):
             try:
                 res = model.maxima(V, R, mass)
             except ModelRangeError:
                 continue
-            for k in CYLINDER_UNITS:
+            for k in units:
                 values[k][i, j] = getattr(res, k)
-            regime[i, j], status[i, j] = REGIME_NAMES.index(res.regime), OK
+            regime[i, j], status[i, j] = regime_names.index(res.regime), OK
         if progress is not None:
             progress((i + 1) * velocity.size, velocity.size * radius.size)
-    return CylinderMap(velocity=velocity, radius=radius, mass=mass, length=model.length,
-                       values=values, regime=regime, status=status)
+    return GridMap(velocity=velocity, radius=radius, mass=mass, values=values, regime=regime,
+                   status=status, kind=kind, shape=shape, fields=dict(fields),
+                   units=dict(units), regime_names=tuple(regime_names),
+                   status_messages=dict(status_messages), range_limit=range_limit,
+                   attrs=attrs or {})
+
+
+def cylinder_map(model: CylinderImpactModel, velocity, radius, mass,
+                 progress=None) -> GridMap:
+    """`CylinderImpactModel.maxima` at every (R, V) pair of the two 1-D axes, one impact at
+    a time (no vectorised path: about 40 ms a point on a uniform target).
+
+    ``progress(done, total)`` is called after each radius.
+    """
+    velocity, radius = _map_axes(velocity, radius)
+    # the lightest allowed mass grows with R: check the largest radius once
+    check_cylinder_mass(float(radius.max()), model.length, check_positive("mass", mass, "kg"))
+    return grid_map(model, velocity, radius, mass, kind="cylinder", shape="cylinder",
+                    fields=CYLINDER_MAP_FIELDS, units=CYLINDER_UNITS,
+                    regime_names=REGIME_NAMES, status_messages=CYLINDER_STATUS_MESSAGES,
+                    range_limit="half-width > min(R, d/5)", attrs={"length": model.length},
+                    progress=progress)

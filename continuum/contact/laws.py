@@ -28,8 +28,8 @@ import numpy as np
 from filmscale.core.checks import check_choice, check_real
 from filmscale.core.errors import InputError
 
-from .hertz import _first_yield as _hertz_first_yield
-from .hertz import _hertz_force, _pressure_factor, checked
+from .hertz import first_yield_unchecked as _hertz_first_yield
+from .hertz import hertz_force_unchecked, pressure_factor_unchecked, checked
 from .quadrature import integrate
 
 
@@ -160,13 +160,13 @@ def _hertz_or_plastic(branch, first_plastic, plastic, delta, R, E_star):
     """(P, A): Hertz on branches below ``first_plastic``, plastic() from it on; a scalar
     branch evaluates one of them only."""
     if np.ndim(branch) == 0 and branch < first_plastic:
-        return _hertz_force(delta, R, E_star), _hertz_area(delta, R)
+        return hertz_force_unchecked(delta, R, E_star), _hertz_area(delta, R)
     if np.ndim(branch) == 0:
         return plastic()
     selected = np.asarray(branch) >= first_plastic
     with np.errstate(all="ignore"):     # the plastic formula also runs on elastic points
         f_p, a_p = plastic()
-    return (np.where(selected, f_p, _hertz_force(delta, R, E_star)),
+    return (np.where(selected, f_p, hertz_force_unchecked(delta, R, E_star)),
             np.where(selected, a_p, _hertz_area(delta, R)))
 
 
@@ -191,7 +191,7 @@ class Hertz(ContactLaw):
 
     def force_area(self, delta, R, E_star, sigma_y, nu, branch):
         delta = np.asarray(delta, dtype=float)
-        return _hertz_force(delta, R, E_star), _hertz_area(delta, R)
+        return hertz_force_unchecked(delta, R, E_star), _hertz_area(delta, R)
 
 
 # --- Komvopoulos & Ye 2001 ----------------------------------------------------------------------
@@ -324,7 +324,7 @@ class KogutEtsion(ContactLaw):
         w_c, p_c = self._critical(R, E_star, sigma_y, nu)
         ws = self._clamped(delta / w_c, branch)
         a_c = np.pi * R * w_c
-        force = _by_branch(branch, lambda: _hertz_force(delta, R, E_star),
+        force = _by_branch(branch, lambda: hertz_force_unchecked(delta, R, E_star),
                            lambda: 1.03 * p_c * ws**1.425, lambda: 1.40 * p_c * ws**1.263,
                            lambda: 2.0 * np.pi * R * ws * w_c * self.hardness_factor * sigma_y)
         area = _by_branch(branch, lambda: _hertz_area(delta, R),
@@ -351,7 +351,7 @@ class JacksonGreen(ContactLaw):
     default_unloading = "jackson-chusoipin-green"
 
     def _critical(self, R, E_star, sigma_y, nu):
-        c_sy = _pressure_factor(nu) * sigma_y
+        c_sy = pressure_factor_unchecked(nu) * sigma_y
         w_c = np.square(np.pi * c_sy / (2.0 * E_star)) * R
         p_c = (np.pi**3 / 6.0) * c_sy**3 * np.square(R) / np.square(E_star)
         return w_c, p_c, c_sy
@@ -408,7 +408,7 @@ class Thornton(ContactLaw):
 
         def plastic():
             d_eff = np.maximum(delta, d_y)
-            force = (_hertz_force(d_y, R, E_star)
+            force = (hertz_force_unchecked(d_y, R, E_star)
                      + np.pi * self.limiting_pressure_factor * sigma_y * R * (d_eff - d_y))
             return force, _hertz_area(d_eff, R)
 
@@ -430,6 +430,12 @@ _LAWS = {
     "thornton": Thornton,
 }
 LAW_NAMES = tuple(_LAWS)
+#: the law of an impact scene without [model] contact_law: the published Komvopoulos-Ye
+#: form as fitted to FE, with its regime jumps (docs/impact-model.md)
+DEFAULT_LAW = "komvopoulos-ye"
+#: the law `calibrate` fits by default: the same law made continuous at its regime changes,
+#: because a least-squares fit over a curve cannot follow a jump in force
+FIT_LAW = "komvopoulos-ye-continuous"
 
 
 def contact_law(name: str, **options) -> ContactLaw:

@@ -50,7 +50,7 @@ from filmscale.core.checks import check_choice, check_int, check_real
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.jsonable import to_jsonable
 
-from .impact import ImpactModel, _impact_inputs
+from .impact import ImpactModel, impact_inputs
 from .impact_map import ImpactMap, impact_map
 from .results import ImpactResult
 
@@ -163,7 +163,7 @@ def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *
         path; the defaults keep the tangential restitution within about 1e-3 of the converged
         value (benchmarks/impact_speed_vs_error.py).
     """
-    V, R, m = (float(x) for x in _impact_inputs(velocity, radius, mass))
+    V, R, m = (float(x) for x in impact_inputs(velocity, radius, mass))
     theta, mu, j = oblique_inputs(angle, friction, inertia_factor)
     check_choice("path", path, ("fast", "time"))
     steps, springs = check_int("steps", steps, 10, 10**7), check_int("springs", springs, 2, 10**5)
@@ -327,4 +327,4 @@ def oblique_map(model: ImpactModel, velocity, radius, mass, angle, friction, *,
             progress((r + 1) * base.velocity.size, angles.size * base.velocity.size)
     out["regime_tangential"] = np.where(np.isnan(out["regime_tangential"]), -1,
                                         out["regime_tangential"]).astype(int)
-    return replace(base, angle=angles, tangential=out)
+    return replace(base, angle=angles, tangential=out, tangential_units=dict(OBLIQUE_FIELDS))

@@ -1,5 +1,7 @@
-"""What the impact model returns: one impact (`ImpactResult`), the maxima of many impacts at
-once (`ImpactMaxima`, the fast path) and a time history (`ImpactHistory`). SI units."""
+"""What the impact models return: for a sphere one impact (`ImpactResult`), the maxima of many
+impacts at once (`ImpactMaxima`, the fast path) and a time history (`ImpactHistory`); for a
+cylinder one impact (`CylinderImpactResult`) and its history (`CylinderImpactHistory`). SI
+units."""
 
 from __future__ import annotations
 
@@ -181,3 +183,79 @@ class ImpactHistory:
 def exceeds_radius_message(V, R, m) -> str:
     return (f"approach exceeds the sphere radius at V = {V:.6g} m/s, R = {R:.6g} m, "
             f"m = {m:.6g} kg: the contact laws hold for delta <= R only")
+
+
+@dataclass(frozen=True)
+class CylinderImpactResult:
+    """One cylinder impact; SI units. Forces are totals over the length (P = L P')."""
+
+    velocity: float             #: V, incident normal velocity, m/s
+    radius: float               #: R, cylinder radius, m
+    length: float               #: L, contact length, m
+    mass: float                 #: m, moving mass, kg
+    datum_depth: float          #: d, depth of the approach datum, m
+    delta_max: float            #: maximum approach, m
+    force_max: float            #: largest contact force, N
+    line_load_max: float        #: largest load per unit length, N/m
+    mean_pressure_max: float    #: largest mean contact pressure P'/(2b), Pa
+    contact_half_width: float   #: largest contact half-width b, m
+    contact_time: float         #: duration of contact, s
+    loading_time: float         #: contact to maximum approach, s
+    unloading_time: float       #: maximum approach to separation, s
+    residual_depth: float       #: depth of the groove left behind, m
+    restitution: float          #: e_y = rebound speed / V
+    rebound_velocity: float     #: m/s
+    work_loading: float         #: integral of P over the loading approach, J
+    work_unloading: float       #: work returned on unloading, J
+    dissipated: float           #: work_loading - work_unloading, J
+    yielded: bool               #: first yield (p0 = C sigma_Y) was reached
+    regime: str                 #: regime at maximum approach, one of REGIME_NAMES
+    yield_approach: float       #: approach at first yield, m (inf if out of range)
+    yield_velocity: float       #: impact speed that just reaches first yield, m/s
+    path: str                   #: "energy-quadrature" or "time-integration"
+    shape: str = "cylinder"
+    approximation: str = ("plane strain over the length L, end effects neglected; approach "
+                          "from the datum depth d")
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict:
+        """The result as JSON values (infinities become None)."""
+        return to_jsonable(self)
+
+    def summary(self) -> str:
+        lines = [
+            f"Impact of a cylinder R = {eng(self.radius, 'm')}, L = {eng(self.length, 'm')}, "
+            f"m = {eng(self.mass, 'kg')} at V = {eng(self.velocity, 'm/s')} (line contact, "
+            f"datum d = {eng(self.datum_depth, 'm')}, {self.path})",
+            f"  maximum approach      {eng(self.delta_max, 'm')}",
+            f"  maximum force         {eng(self.force_max, 'N')} "
+            f"({eng(self.line_load_max, 'N/m')})",
+            f"  maximum mean pressure {eng(self.mean_pressure_max, 'Pa')}",
+            f"  contact half-width    {eng(self.contact_half_width, 'm')}",
+            *rebound_lines(self),
+            f"  approximation         {self.approximation}",
+        ]
+        lines += [f"  warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class CylinderImpactHistory:
+    """Time-integrated cylinder impact: the maxima plus sampled histories (SI units).
+
+    ``phase`` is 1 loading, 2 unloading (contact starts at t = 0); ``branch`` indexes
+    REGIME_NAMES: the regime of each loading sample, the regime at maximum approach while
+    unloading.
+    """
+
+    result: CylinderImpactResult
+    time: np.ndarray                #: s
+    delta: np.ndarray               #: approach from the datum, m
+    velocity: np.ndarray            #: d(delta)/dt, m/s
+    force: np.ndarray               #: total force L P', N
+    contact_half_width: np.ndarray  #: b, m
+    mean_pressure: np.ndarray       #: P'/(2b), Pa
+    branch: np.ndarray
+    phase: np.ndarray
+    events: dict = field(default_factory=dict)  #: event name -> time, s
+    nfev: int = 0                   #: right-hand-side evaluations of the integrator

@@ -11,7 +11,12 @@ from filmscale.continuum.contact.cylinder import CylinderImpactModel
 from filmscale.continuum.contact.impact_map import CYLINDER_UNITS
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.errors import InputError
-from filmscale.workflows.cli import CYLINDER_HISTORY_HEADER, HISTORY_HEADER, main
+from filmscale.workflows.cli import main
+
+HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radius [m], "
+                  "mean_pressure [Pa], phase, branch")
+#: a line contact has a half-width, not a radius
+CYLINDER_HISTORY_HEADER = HISTORY_HEADER.replace("contact_radius", "contact_half_width")
 from filmscale.workflows.result import read_impact_maps
 from filmscale.workflows.scene import parse_scene
 
@@ -41,13 +46,11 @@ def _impact(tmp_path, capsys, text, *args):
 
 def test_cylinder_scene_builds_the_line_contact_model():
     scene = parse_scene(SCENE)
-    model = scene.cylinder_model()
-    assert isinstance(model, CylinderImpactModel)
+    model = scene.model()
+    assert scene.kind.name == "cylinder" and isinstance(model, CylinderImpactModel)
     assert model.length == 5e-3 and model.datum_depth == 5e-3      # default d = L
-    with pytest.raises(InputError, match="sphere impactors only"):
-        scene.model()
     datum = parse_scene(SCENE.replace("length = 5e-3", "length = 5e-3\ndatum_depth = 0.02"))
-    assert datum.cylinder_model().datum_depth == 0.02
+    assert datum.model().datum_depth == 0.02
 
 
 @pytest.mark.parametrize("old, new, match", [
@@ -55,7 +58,7 @@ def test_cylinder_scene_builds_the_line_contact_model():
     ("length = 5e-3", "length = -1", r"impactor.length = -1 m is outside"),
     ("length = 5e-3", "length = 5e-3\ndatum_depth = 0", r"impactor.datum_depth = 0 m"),
     ("mass = 1e-3", "mass = 1e-12", r"impactor.mass = 1e-12 kg is lighter than a cylinder"),
-    ("shape = \"cylinder\"", "shape = \"sphere\"", r"impactor.length applies to shape"),
+    ("shape = \"cylinder\"", "shape = \"sphere\"", r"impactor.length applies to cylinder impactors only"),
     ("velocity = 5.0", "velocity = 5.0\nangle = 30", r"impactor.angle applies to sphere"),
     ("sigma_y = 1e9", "sigma_y = 1e9\n[model]\ncontact_law = \"hertz\"",
      r"model.contact_law applies to sphere impactors"),
@@ -143,7 +146,7 @@ def test_impact_map_of_a_cylinder_scene(tmp_path, capsys):
             assert f["layered"][name].shape == (2, 3), name
             assert f["layered"][name].attrs["units"] == unit, name
         assert "contact_radius_max" not in f["layered"]
-    layered = parse_scene(scene.read_text(), base=tmp_path).cylinder_model()
+    layered = parse_scene(scene.read_text(), base=tmp_path).model()
     for label, model in (("layered", layered), ("homogeneous", CylinderImpactModel(STEEL, 5e-3))):
         assert fields[label]["regime_names"] == ["elastic", "contained plastic", "fully plastic"]
         assert fields[label]["model"]["shape"] == "cylinder"
@@ -158,5 +161,5 @@ def test_impact_map_refuses_angle_for_cylinders(tmp_path, capsys):
     code = main(["impact-map", str(scene), "--velocity", "1:2:2", "--angle", "0:30:2",
                  "--out", str(tmp_path / "map.h5")])
     err = capsys.readouterr().err
-    assert code == 2 and "a cylinder map is over (V, R) only" in err
+    assert code == 2 and "--angle applies to sphere impactors" in err
     assert len(err.strip().splitlines()) == 1 and not (tmp_path / "map.h5").exists()

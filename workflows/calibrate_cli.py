@@ -30,7 +30,7 @@ SIMULATED_SOURCE = "filmscale.md "
 PARTICLE_SOURCE = "filmscale.md particle model"
 
 
-def _substrate_arg(text: str):
+def substrate_arg(text: str):
     """E,nu[,sigma_y] in Pa or with units ("90 GPa,0.25,2 GPa"): the substrate under a film."""
     from filmscale.continuum.materials import ElasticPlastic
     from filmscale.core.quantities import to_si
@@ -249,77 +249,111 @@ def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
     contact zero is held fixed, as in the scene pipeline), else today's defaults for measured
     curves (diamond, a half-space)."""
     curves = [c for _, cs in files for c in cs]
-    simulated = [_source(c).startswith(SIMULATED_SOURCE) for c in curves]
     records = {path: record_film(path) for path, _ in files}
-    notes = []
+    tip, tip_from = _tip_material(curves, tip_material)
+    zero, zero_from = _contact_zero(curves, contact_zero)
+    if any(r is not None for r in records.values()):
+        film = _film_of_records(files, records, thickness, substrate)
+    else:
+        film = _film_of_measured(files, thickness, substrate)
+    return CurveInputs(tip, tip_from, contact_zero=zero, contact_zero_from=zero_from, **film)
+
+
+def _tip_material(curves, tip_material: str | None) -> tuple[str, str]:
+    """(tip material, where from): the option, else rigid for simulated curves, else diamond;
+    InputError for simulated and measured curves together."""
+    simulated = [_source(c).startswith(SIMULATED_SOURCE) for c in curves]
     if tip_material is not None:
-        tip, tip_from = tip_material, "option"
-    elif curves and all(simulated):
-        tip, tip_from = "rigid", "record"
-    elif any(simulated):
+        return tip_material, "option"
+    if curves and all(simulated):
+        return "rigid", "record"
+    if any(simulated):
         raise InputError("the curves mix simulated runs (a rigid tip) and measured curves "
                          "(a diamond tip by default): give --tip-material, or calibrate them "
                          "apart")
-    else:
-        tip, tip_from = "diamond", "default"
-    zero, zero_from = contact_zero, "option"
-    if contact_zero is None and curves and all(
-            _source(c).startswith(PARTICLE_SOURCE) for c in curves):
-        zero, zero_from = "fixed", "record"       # as the scene's particle sources
-    elif contact_zero is None:
-        zero_from = "default"           # `calibrate`'s: fit for a rigid sphere, else fixed
-    film = [r for r in records.values() if r is not None]
-    if not film:
-        for path, cs in files:
-            if any(_source(c).startswith(SIMULATED_SOURCE) for c in cs):
-                notes.append(f"{path} holds simulated curves but no run record: a "
-                             "half-space unless --film-thickness and --substrate say "
-                             "otherwise")
-        if (thickness is None) != (substrate is None):
-            raise InputError("--film-thickness and --substrate go together (a film on a "
-                             "substrate), or leave both out (a half-space)")
-        given = "option" if thickness is not None else "default"
-        return CurveInputs(tip, tip_from, thickness, substrate, given, given,
-                           contact_zero=zero, contact_zero_from=zero_from, notes=tuple(notes))
-    films = {r.path: r for r in film if r.thickness is not None}
-    if films and len(film) < len(files) and (thickness is None or substrate is None):
-        others = ", ".join(path for path, r in records.items() if r is None)
-        raise InputError(f"{', '.join(films)} hold(s) a film on a substrate but {others} "
-                         "hold(s) no run record: give --film-thickness and --substrate")
+    return "diamond", "default"
+
+
+def _contact_zero(curves, contact_zero: str | None) -> tuple[str | None, str]:
+    """(contact zero, where from): the option, else fixed for particle-model curves (as the
+    scene's particle sources), else None: `calibrate`'s default (fit for a rigid sphere, else
+    fixed)."""
+    if contact_zero is not None:
+        return contact_zero, "option"
+    if curves and all(_source(c).startswith(PARTICLE_SOURCE) for c in curves):
+        return "fixed", "record"
+    return None, "default"
+
+
+def _film_of_measured(files, thickness, substrate) -> dict:
+    """The film of curves without a run record (`CurveInputs` fields): the options' film on
+    its substrate, or a half-space; a note for each file of simulated curves without one."""
+    notes = tuple(f"{path} holds simulated curves but no run record: a half-space unless "
+                  "--film-thickness and --substrate say otherwise"
+                  for path, cs in files
+                  if any(_source(c).startswith(SIMULATED_SOURCE) for c in cs))
+    if (thickness is None) != (substrate is None):
+        raise InputError("--film-thickness and --substrate go together (a film on a "
+                         "substrate), or leave both out (a half-space)")
+    given = "option" if thickness is not None else "default"
+    return dict(thickness=thickness, substrate=substrate, thickness_from=given,
+                substrate_from=given, notes=notes)
+
+
+def _film_of_records(files, records: dict, thickness, substrate) -> dict:
+    """The film of curves with run records (`CurveInputs` fields): each of the film's
+    thickness and substrate from the option, else from the records, which must agree."""
+    held = [r for r in records.values() if r is not None]
+    films = {r.path: r for r in held if r.thickness is not None}
     if not films:                           # every record: a half-space
         if (thickness is None) != (substrate is None):
             raise InputError("--film-thickness and --substrate go together: the record(s) "
                              "hold a half-space")
         given = "option" if thickness is not None else "record"
-        return CurveInputs(tip, tip_from, thickness, substrate, given, given,
-                           contact_zero=zero, contact_zero_from=zero_from)
-    if len(films) < len(film) and (thickness is None or substrate is None):
+        return dict(thickness=thickness, substrate=substrate, thickness_from=given,
+                    substrate_from=given)
+    if thickness is None or substrate is None:
+        _check_one_film(files, records, held, films)
+    film = dict(thickness=thickness, substrate=substrate, thickness_from="option",
+                substrate_from="option", substrate_how="")
+    if thickness is None:
+        film.update(thickness=_record_thickness(films), thickness_from="record")
+    if substrate is None:
+        first = _record_substrate(films)
+        film.update(substrate=first.substrate(), substrate_from="record",
+                    substrate_how=first.substrate_how)
+    return film
+
+
+def _check_one_film(files, records: dict, held: list, films: dict) -> None:
+    """Where an option does not give the film whole, every file must hold a record of a film
+    on a substrate: no file without a record, no record of a half-space."""
+    if len(held) < len(files):
+        others = ", ".join(path for path, r in records.items() if r is None)
+        raise InputError(f"{', '.join(films)} hold(s) a film on a substrate but {others} "
+                         "hold(s) no run record: give --film-thickness and --substrate")
+    if len(films) < len(held):
         raise InputError(f"the records mix half-spaces and films ({', '.join(films)}): "
                          "calibrate them apart, or give --film-thickness and --substrate")
-    froms = []
-    if thickness is None:
-        values = {r.thickness for r in films.values()}
-        if len(values) > 1:
-            raise InputError(f"the records hold films of different thicknesses "
-                             f"({', '.join(f'{t:g} m' for t in sorted(values))}): calibrate "
-                             "them apart, or give --film-thickness")
-        thickness = values.pop()
-        froms.append("record")
-    else:
-        froms.append("option")
-    how = ""
-    if substrate is None:
-        keys = {r.substrate_key for r in films.values()}
-        if len(keys) > 1:
-            raise InputError("the records hold films on different substrates: calibrate "
-                             "them apart, or give --substrate")
-        first = next(iter(films.values()))
-        substrate, how = first.substrate(), first.substrate_how
-        froms.append("record")
-    else:
-        froms.append("option")
-    return CurveInputs(tip, tip_from, thickness, substrate, *froms, how,
-                       contact_zero=zero, contact_zero_from=zero_from)
+
+
+def _record_thickness(films: dict) -> float:
+    """The film thickness the records hold, the same in each."""
+    values = {r.thickness for r in films.values()}
+    if len(values) > 1:
+        raise InputError(f"the records hold films of different thicknesses "
+                         f"({', '.join(f'{t:g} m' for t in sorted(values))}): calibrate "
+                         "them apart, or give --film-thickness")
+    return values.pop()
+
+
+def _record_substrate(films: dict) -> RecordFilm:
+    """The record whose substrate is the film's: the records' substrates are the same."""
+    keys = {r.substrate_key for r in films.values()}
+    if len(keys) > 1:
+        raise InputError("the records hold films on different substrates: calibrate "
+                         "them apart, or give --substrate")
+    return next(iter(films.values()))
 
 
 # ---- what --strict judges ------------------------------------------------------------------
@@ -374,8 +408,9 @@ def strict_reasons(cal, checks) -> list[str]:
     return out
 
 
-def _json(cal, check, inputs: CurveInputs) -> dict:
-    d = cal.to_dict()
+def _parameter_keys(cal) -> dict:
+    """E, sigma_y, n and h* flat: the value, std, identified and reason of each (n's value
+    and std null when not identified; h*'s identified and reason those of `depth_law`)."""
     tried, h_identified, h_reason = depth_law(cal)
     return {
         "E": cal.E.value, "E_std": cal.E.std, "E_identified": cal.E.identified,
@@ -388,17 +423,26 @@ def _json(cal, check, inputs: CurveInputs) -> dict:
         "h_star": None if cal.h_star is None else cal.h_star.value,
         "h_star_std": None if cal.h_star is None else cal.h_star.std,
         "h_star_identified": bool(tried and h_identified),
-        "h_star_reason": "" if tried and h_identified else h_reason,
-        "nu": cal.nu, "route": cal.route, "model": cal.model,
-        "cross_check_rms": check.rms, "cross_check_tolerance": check.tolerance,
-        "passed": check.passed, "cross_check_noise": check.noise,
-        "cross_check_excluded": check.excluded, "cross_check_lacks": check.lacks,
-        "check": check.to_dict(),
-        # the pop-in law's third parameter: load (N), depth (m), shear stress 0.31 p0 (Pa)
-        # with their scatter over the curves; null without a pop-in
-        "pop_in": cal.pop_in,
-        "points": cal.points, "warnings": list(cal.warnings),
-        "inputs": inputs.to_dict(), "calibration": d}
+        "h_star_reason": "" if tried and h_identified else h_reason}
+
+
+def _check_keys(check) -> dict:
+    """The cross-scale check: whole under "check", its verdict and numbers at the top."""
+    return {"cross_check_rms": check.rms, "cross_check_tolerance": check.tolerance,
+            "passed": check.passed, "cross_check_noise": check.noise,
+            "cross_check_excluded": check.excluded, "cross_check_lacks": check.lacks,
+            "check": check.to_dict()}
+
+
+def _json(cal, check, inputs: CurveInputs) -> dict:
+    """``calibrate --json``: the calibration's own fields (`Calibration.to_dict`; among them
+    the pop-in law's third parameter, "pop_in": load (N), depth (m), shear stress 0.31 p0
+    (Pa) with their scatter over the curves, null without a pop-in), its parameters flat
+    (`_parameter_keys`; each parameter whole under "calibration"), and what the command
+    adds: the cross-scale check (`_check_keys`) and the inputs taken from run records."""
+    d = cal.to_dict()
+    return {**d, **_parameter_keys(cal), **_check_keys(check), "inputs": inputs.to_dict(),
+            "calibration": d}
 
 
 def cmd_calibrate(args) -> int:
@@ -440,10 +484,11 @@ def add_strict_argument(p, what: str) -> None:
                         "law was tried) is not identified; one line on stderr per reason")
 
 
-def add_commands(sub) -> None:
+def add_arguments(sub) -> None:
+    """``calibrate``, on the top-level sub-parsers."""
     from filmscale.continuum.calibration.result import EXCLUDES, NOISE_FACTOR
     from filmscale.continuum.calibration.target import CONTACT_ZEROS, TIP_MATERIALS
-    from filmscale.continuum.contact.laws import LAW_NAMES
+    from filmscale.continuum.contact.laws import FIT_LAW, LAW_NAMES
     p = sub.add_parser(
         "calibrate", help="E, sigma_y (and n) of a layer from curve files",
         description="Calibrate a layer from load-displacement curves: spherical tips through "
@@ -462,12 +507,13 @@ def add_commands(sub) -> None:
     add_quantity_argument(p, "--film-thickness", "m", metavar="T",
                           help="the layer is a film of thickness T (m, or with units: 1 um) "
                                "on --substrate (default: a run record's film, else none)")
-    p.add_argument("--substrate", type=_substrate_arg, metavar="E,nu[,sigma_y]",
+    p.add_argument("--substrate", type=substrate_arg, metavar="E,nu[,sigma_y]",
                    help="the substrate under the film, Pa or with units: 90GPa,0.25,2GPa "
                         "(without sigma_y it takes the film's; default: a run record's, an "
                         "MD substrate's E and nu from the potential's elastic constants)")
-    p.add_argument("--law", choices=LAW_NAMES, default="komvopoulos-ye-continuous",
-                   help="sphere contact law (default komvopoulos-ye-continuous)")
+    p.add_argument("--law", choices=LAW_NAMES, default=FIT_LAW,
+                   help=f"sphere contact law (default {FIT_LAW}: continuous, so that a fit "
+                        "can follow it)")
     p.add_argument("--contact-zero", choices=CONTACT_ZEROS,
                    help="sphere tips: fit the depth zero with E, or hold it fixed at the "
                         "curves' h = 0 (default: fit for a rigid tip, fixed for diamond and "

@@ -37,7 +37,8 @@ def add_reader_arguments(p) -> None:
                         "skip_rows, [columns] and [units] tables")
 
 
-def add_parser(isub) -> None:
+def add_arguments(isub) -> None:
+    """``indent calibrate``, on the sub-parsers of ``indent``."""
     p = isub.add_parser(
         "calibrate", help="frame compliance and tip area function from reference indents",
         description="Fit the frame compliance and the area function A(h_c) = C0 h_c^2 + C1 h_c "
@@ -91,16 +92,17 @@ def _window(text: str) -> tuple[float, float]:
     return lo, check_real("--window end", hi, low=lo, high=1.0, low_open=True)
 
 
-def cmd_indent_calibrate(args) -> int:
-    from filmscale.continuum.indentation.io import read_area_function, read_curves
-    from filmscale.continuum.indentation.tip_calibration import (AREA_FILE_HEADER,
-                                                                 calibrate_tip, parse_reference)
+def _calibration_inputs(args):
+    """The reference, tip, window, frame compliance, kept area function and reader options
+    of ``indent calibrate``, each checked before any work (bad options stop here)."""
+    from filmscale.continuum.indentation.io import read_area_function
     from filmscale.continuum.indentation.surface import parse_surface
+    from filmscale.continuum.indentation.tip_calibration import parse_reference
     from filmscale.continuum.indentation.tips import parse_tip
 
-    from .indent import AnalysisOptions, expand_inputs, prepare_curve, reader_options
+    from .indent import reader_options
 
-    reference = parse_reference(args.reference)      # bad options stop here, before any work
+    reference = parse_reference(args.reference)
     parse_surface(args.surface)
     tip = parse_tip(args.tip)
     window = _window(args.window)
@@ -115,35 +117,58 @@ def cmd_indent_calibrate(args) -> int:
     check_real("--terms", args.terms, low=2, high=9)
     area = read_area_function(args.area_file, tip) if args.area_file else None
     read = reader_options(args.format, args.columns, args.reader)
+    return reference, tip, window, C_f, area, read
+
+
+def _calibration_files(args) -> list[Path]:
+    """The curve files, --out checked against them and the --area-file."""
+    from filmscale.continuum.indentation.tip_calibration import AREA_FILE_HEADER
+
+    from .indent import expand_inputs
+
     output_path("--out", args.out, ("toml",))
     files = expand_inputs(args.files)
     check_outputs([("an input curve file", f) for f in files]
                   + ([("the --area-file", args.area_file)] if args.area_file else []),
                   [("--out", args.out, text_kind(AREA_FILE_HEADER, "a tip area file"))],
                   args.force)
+    return files
+
+
+def _read_indents(files, read, args) -> tuple[list, list[str], list[float]]:
+    """(curves, names, surface shifts) of every curve of the files, prepared as ``indent
+    analyze`` prepares them (drift, contact point); an unreadable file stops: exit 2."""
+    from filmscale.continuum.indentation.io import read_curves
+
+    from .indent import AnalysisOptions, prepare_curve
 
     prepare = AnalysisOptions(drift=not args.no_drift, surface=args.surface)
-    start = time.perf_counter()
     curves, names, shifts = [], [], []
     for f in files:
-        for name, curve in read_curves(f, read).items():   # an unreadable file stops: exit 2
+        for name, curve in read_curves(f, read).items():
             curve, fields, _ = prepare_curve(curve, prepare)
             curves.append(curve)
             names.append(f"{f.stem}:{name}" if name != f.stem else name)
             shifts.append(fields["surface_shift"])
-    cal = calibrate_tip(curves, reference, tip=tip, fit=args.fit, terms=args.terms,
-                        frame_compliance=C_f, area=area, window=window, fit_c0=args.fit_c0,
-                        method=args.method, names=names)
-    elapsed = time.perf_counter() - start
-    problem = cal.problem()
+    return curves, names, shifts
+
+
+def _print_calibration(args, cal, names, shifts) -> None:
+    """The calibration (JSON or its summary) and, on stderr, how many surfaces were
+    re-found."""
     if args.json:
         print(dumps({**cal.to_dict(), "surface_shift": dict(zip(names, shifts))}))
     else:
         print(cal.summary())
     moved = sum(1 for s in shifts if s)
     if moved:
-        print(f"surface re-found on {moved} of {len(curves)} curves (--surface {args.surface})",
+        print(f"surface re-found on {moved} of {len(shifts)} curves (--surface {args.surface})",
               file=sys.stderr)
+
+
+def _write_area_file(args, cal, problem: str | None) -> None:
+    """The area file of --out, unless the quality gate refuses the fit (``problem``,
+    `TipCalibration.problem`) and --force is not given (exit 1)."""
     if problem and not args.force:
         raise ModelRangeError(f"calibration refused, {args.out} not written: {problem} "
                               "(--force writes it anyway)")
@@ -152,6 +177,22 @@ def cmd_indent_calibrate(args) -> int:
     if problem:
         print(f"filmscale: warning: written although refused (--force): {problem}",
               file=sys.stderr)
+
+
+def cmd_indent_calibrate(args) -> int:
+    from filmscale.continuum.indentation.tip_calibration import calibrate_tip
+
+    reference, tip, window, C_f, area, read = _calibration_inputs(args)
+    files = _calibration_files(args)
+    start = time.perf_counter()
+    curves, names, shifts = _read_indents(files, read, args)
+    cal = calibrate_tip(curves, reference, tip=tip, fit=args.fit, terms=args.terms,
+                        frame_compliance=C_f, area=area, window=window, fit_c0=args.fit_c0,
+                        method=args.method, names=names)
+    elapsed = time.perf_counter() - start
+    problem = cal.problem()
+    _print_calibration(args, cal, names, shifts)
+    _write_area_file(args, cal, problem)
     what = "CSM points" if cal.method == "csm" else "indents"
     print(f"calibrated on {len(cal.h_c)} {what} from {len(files)} files in {elapsed:.2f} s; "
           f"wrote {args.out}", file=sys.stderr)

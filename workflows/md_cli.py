@@ -109,7 +109,7 @@ PRESET_NAMES = ("ci", "quick", "research")
 PRESET_METAVAR = "{" + ",".join(PRESET_NAMES) + "}"
 
 
-def add_commands(sub) -> None:
+def add_arguments(sub) -> None:
     """Register ``md`` and ``potentials`` on the top-level subparsers."""
     md = sub.add_parser("md", help="LAMMPS molecular dynamics runs")
     msub = md.add_subparsers(dest="md_command", required=True)

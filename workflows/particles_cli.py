@@ -63,7 +63,7 @@ def cmd_particles(args) -> int:
     return 0
 
 
-def add_commands(sub) -> None:
+def add_arguments(sub) -> None:
     """Register ``particles`` on the top-level subparsers."""
     p = sub.add_parser("particles", help="SPH and peridynamics particle models in LAMMPS")
     psub = p.add_subparsers(dest="particles_command", required=True)

@@ -110,10 +110,23 @@ def _check_sweep_outputs(sweep: Path, name: str, scenes, out_dir: Path,
 
 
 def cmd_sweep(args) -> int:
-    from filmscale.core.jsonable import dumps
+    """``sweep plan|run|submit|run-unit``: every scene of the sweep checked before any runs."""
+    name, scenes = _load_sweep(args)
+    if args.sweep_command == "run-unit":
+        return _run_sweep_unit(args, scenes)
+    out_dir = Path(args.out_dir) if getattr(args, "out_dir", None) else Path("results") / name
+    if args.sweep_command == "submit":
+        return _submit_sweep(args, name, scenes, out_dir)
+    if args.sweep_command == "plan":
+        return _plan_sweep(scenes)
+    return _run_sweep(args, name, scenes, out_dir)
 
-    from .plan import check_request, plan_scene
-    from .sweep import default_jobs, load_sweep, run_sweep
+
+def _load_sweep(args):
+    """(name, scenes) of the sweep file, its options and (but for ``plan``) every scene's
+    request and the store checked."""
+    from .plan import check_request
+    from .sweep import load_sweep
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         raise InputError(f"--jobs = {args.jobs} must be at least 1")
     if args.sweep_command == "submit":
@@ -124,26 +137,39 @@ def cmd_sweep(args) -> int:
         for s in scenes:
             check_request(s.scene)
         _store_folder(args.store)
-    if args.sweep_command == "run-unit":
-        return _run_sweep_unit(args, scenes)
-    out_dir = Path(args.out_dir) if getattr(args, "out_dir", None) else Path("results") / name
-    if args.sweep_command == "submit":
-        from .slurm import submit_sweep
-        _check_sweep_outputs(Path(args.sweep), name, scenes, out_dir, None, False)
-        jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
-                            Path(args.store).resolve(), out_dir.resolve(), args.partition,
-                            args.time)
-        print(f"filmscale: submitted {len(jobs['units'])} run unit(s) and {len(jobs['scenes'])} "
-              f"scene(s); `filmscale status {args.store}` follows them", file=sys.stderr)
-        print(dumps(jobs))
-        return 0
-    if args.sweep_command == "plan":
-        for s in scenes:
-            changes = ", ".join(f"{k} = {v!r}" for k, v in s.overrides.items()) or "the base"
-            print(f"== {s.name}: {changes}\n{plan_scene(s.scene).text()}")
-        print(f"{len(scenes)} scene(s); `filmscale sweep run` would run "
-              f"{default_jobs(scenes)} at a time here")
-        return 0
+    return name, scenes
+
+
+def _plan_sweep(scenes) -> int:
+    """``sweep plan``: each scene's overrides and plan."""
+    from .plan import plan_scene
+    from .sweep import default_jobs
+    for s in scenes:
+        changes = ", ".join(f"{k} = {v!r}" for k, v in s.overrides.items()) or "the base"
+        print(f"== {s.name}: {changes}\n{plan_scene(s.scene).text()}")
+    print(f"{len(scenes)} scene(s); `filmscale sweep run` would run "
+          f"{default_jobs(scenes)} at a time here")
+    return 0
+
+
+def _submit_sweep(args, name: str, scenes, out_dir: Path) -> int:
+    """``sweep submit``: the run units as one SLURM array job, then the scenes after them."""
+    from filmscale.core.jsonable import dumps
+
+    from .slurm import submit_sweep
+    _check_sweep_outputs(Path(args.sweep), name, scenes, out_dir, None, False)
+    jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
+                        Path(args.store).resolve(), out_dir.resolve(), args.partition,
+                        args.time)
+    print(f"filmscale: submitted {len(jobs['units'])} run unit(s) and {len(jobs['scenes'])} "
+          f"scene(s); `filmscale status {args.store}` follows them", file=sys.stderr)
+    print(dumps(jobs))
+    return 0
+
+
+def _run_sweep(args, name: str, scenes, out_dir: Path) -> int:
+    """``sweep run``: every scene (or --only one) side by side; exit 1 when one failed."""
+    from .sweep import run_sweep
     index_name = None
     if args.only is not None:
         if not 0 <= args.only < len(scenes):
@@ -197,11 +223,27 @@ def cmd_status(args) -> int:
     folder name with a terminal escape sequence prints as its escapes), the JSON as JSON
     escapes them."""
     from filmscale.core.files import shown
-    from .slurm import queue_states, read_jobs
-    from .store import unit_states
     store = Path(args.store)
     if not store.is_dir():
         raise InputError(f"store {shown(store)} is not a folder")
+    rows = _unit_rows(store)
+    if args.json:
+        from filmscale.core.jsonable import dumps
+        print(dumps(rows))
+        return 0
+    for r in rows:
+        print(_status_line(r))
+    counts = {s: sum(r["state"] == s for r in rows) for s in dict.fromkeys(
+        r["state"] for r in rows)}
+    print(", ".join(f"{n} {shown(s)}" for s, n in counts.items()) or "no units")
+    return 0
+
+
+def _unit_rows(store: Path) -> list[dict]:
+    """The store's units (`store.unit_states`), each with its SLURM job where `sweep submit`
+    recorded one, and the queue's state while the job is not done."""
+    from .slurm import queue_states, read_jobs
+    from .store import unit_states
     rows = unit_states(store)
     jobs = read_jobs(store).get("units", {})
     queue = queue_states(jobs.values())
@@ -210,19 +252,16 @@ def cmd_status(args) -> int:
             r["job"] = jobs[r["unit"]]
             if r["state"] != "done" and r["job"] in queue:
                 r["state"] = queue[r["job"]].lower()
-    if args.json:
-        from filmscale.core.jsonable import dumps
-        print(dumps(rows))
-        return 0
-    for r in rows:
-        extra = (f"  job {shown(r['job'])}" if "job" in r else "") + \
-            (f"  {r['wall_time']:.0f} s" if "wall_time" in r else "") + \
-            (f"  ({shown(r['why'])})" if "why" in r else "")
-        print(f"{shown(r['unit']):<40} {shown(r['state']):<11}{extra}")
-    counts = {s: sum(r["state"] == s for r in rows) for s in dict.fromkeys(
-        r["state"] for r in rows)}
-    print(", ".join(f"{n} {shown(s)}" for s, n in counts.items()) or "no units")
-    return 0
+    return rows
+
+
+def _status_line(r: dict) -> str:
+    """One unit: its name, state, job, wall time and why, escaped (`core.files.shown`)."""
+    from filmscale.core.files import shown
+    extra = (f"  job {shown(r['job'])}" if "job" in r else "") + \
+        (f"  {r['wall_time']:.0f} s" if "wall_time" in r else "") + \
+        (f"  ({shown(r['why'])})" if "why" in r else "")
+    return f"{shown(r['unit']):<40} {shown(r['state']):<11}{extra}"
 
 
 def cmd_report(args) -> int:
@@ -251,7 +290,9 @@ def _sweep_parser(ssub, name: str, help_text: str):
     return q
 
 
-def add_commands(sub) -> None:
+def add_arguments(sub) -> None:
+    """``plan``, ``run``, ``sweep``, ``cancel``, ``status`` and ``report``, on the top-level
+    sub-parsers."""
     p = sub.add_parser("plan", help="print the models a scene needs, why, error and cost",
                        description="Plan a scene without running it: for each layer, the "
                                    "model chosen to calibrate it (MD, particles or the "

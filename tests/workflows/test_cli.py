@@ -14,27 +14,10 @@ from filmscale.continuum import ElasticPlastic, elastic_impact
 from filmscale.core.files import atomic_h5
 from filmscale.workflows.cli import main
 from filmscale.workflows.result import read_impact_maps
+from tests.helpers.scenes import HERTZ_SCENE
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "slider_corner_disk.toml"
 FILMSCALE = Path(sys.executable).with_name("filmscale")
-
-HERTZ_SCENE = """
-[impactor]
-radius = 10e-6
-mass = 1.6e-6
-velocity = 0.05
-E = 400e9
-nu = 0.23
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-
-[model]
-contact_law = "hertz"
-"""
 
 KEYS = ("delta_max", "force_max", "mean_pressure_max", "contact_radius_max", "contact_time",
         "residual_depth", "restitution", "yielded", "regime")
@@ -226,7 +209,7 @@ def test_each_error_kind_exits_with_its_code_in_one_line(monkeypatch, capsys, tm
     """InputError 2, ModelRangeError and EngineError 1, an unexpected defect 1 with one line
     and no traceback (FILMSCALE_DEBUG=1 shows it)."""
     from filmscale.core.errors import EngineError, InputError, ModelRangeError
-    from filmscale.workflows import cli
+    from filmscale.workflows import cli, impact_cli
 
     scene = tmp_path / "s.toml"
     scene.write_text(HERTZ_SCENE)
@@ -234,7 +217,7 @@ def test_each_error_kind_exits_with_its_code_in_one_line(monkeypatch, capsys, tm
                         (EngineError("LAMMPS: lost atoms"), 1), (ZeroDivisionError("x"), 1)):
         def fail(args, error=error):
             raise error
-        monkeypatch.setattr(cli, "cmd_impact", fail)
+        monkeypatch.setattr(impact_cli, "cmd_impact", fail)
         assert cli.main(["impact", str(scene)]) == code
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "Traceback" not in err and str(error) in err

@@ -4,7 +4,8 @@ skipped where it cannot be mounted): `impact-map --out` (HDF5), `impact --histor
 and `--figure` (PNG). The real entry point runs in a child process; each case asserts exit
 status 2, one error line that names the file the user named and "No space left on device",
 no traceback, no h5py noise ("Exception ignored") and no crash, no temporary file left, and
-the earlier output kept byte for byte."""
+the earlier output kept byte for byte. The disk is the `small_disk` fixture of
+tests/conftest.py."""
 
 import os
 import subprocess
@@ -15,12 +16,12 @@ import h5py
 import pytest
 
 from filmscale.core.files import TEMP_MARK
-from filmscale.workflows.cli import HISTORY_HEADER, main
+from filmscale.workflows.cli import main
+from filmscale.workflows.impact_cli import HISTORY_HEADER
 from filmscale.workflows.outputs import REPORT_TITLE
 from filmscale.workflows.result import IMPACT_MAP_FORMAT, RESULT_FORMAT
-from tests.core.test_full_disk import ENOSPC, fill, mounted_disk, temporaries
-from tests.workflows.test_hostile_cli import SCENE
-from tests.workflows.test_pipeline import BASE
+from tests.helpers.disk import ENOSPC, fill, temporaries
+from tests.helpers.scenes import BASE, SCENE
 
 #: a pipeline scene whose film has E and sigma_y (no MD), with a small map: its result is
 #: about 70 kB
@@ -40,13 +41,6 @@ def result_file(tmp_path_factory) -> Path:
     assert main(["run", str(d / "pipe.toml"), "--store", str(d / "store"), "--out",
                  str(d / "result.h5")]) == 0
     return d / "result.h5"
-
-
-@pytest.fixture
-def small_disk(tmp_path):
-    """An empty 64 kB tmpfs (skipped where it cannot be mounted)."""
-    with mounted_disk(tmp_path) as disk:
-        yield disk
 
 
 @pytest.fixture

@@ -21,16 +21,12 @@ import pytest
 from filmscale.continuum.indentation.synthetic import synthetic_curve
 from filmscale.continuum.indentation.tips import berkovich
 from filmscale.core.files import TEMP_MARK, _host
-from filmscale.workflows.cli import HISTORY_HEADER, main
+from filmscale.workflows.cli import main
+from filmscale.workflows.impact_cli import HISTORY_HEADER
 from filmscale.workflows.result import RESULT_FORMAT
-from tests.workflows.test_pipeline import BASE, _sphere_curve_file
-from tests.workflows.test_scene import MINIMAL
-
-SCENE = MINIMAL.replace("velocity = 0.2", "velocity = 0.05") + """
-[map]
-velocity = [0.01, 1.0, 3]
-radius = [1e-6, 1e-5, 3]
-"""
+from tests.helpers.cli import run_main
+from tests.helpers.curves import sphere_curve_file
+from tests.helpers.scenes import BASE, SCENE
 
 PROFILE_SCENE = SCENE + '\n[target.profile]\nfile = "profile.csv"\n'
 FILM = '[target.layers.calibrate]\ncurves = ["film.csv"]\ntip = "sphere:5um"'
@@ -68,7 +64,7 @@ def work(tmp_path, monkeypatch, map_bytes, capsys) -> Path:
     (d / "profile.csv").write_text("h_c [nm], E_r [GPa], H [GPa]\n20, 150, 12\n80, 120, 9\n")
     (d / "link.toml").symlink_to("scene.toml")
     os.link(d / "scene.toml", d / "hard.toml")
-    _sphere_curve_file(d)                                   # film.csv
+    sphere_curve_file(d)                                   # film.csv
     (d / "pipe.toml").write_text(_pipeline('["maxima"]'))
     (d / "pipe_tangential.toml").write_text(_pipeline('["maxima", "tangential"]'))
     (d / "pipe_map.toml").write_text(_pipeline('["maxima", "map"]'))
@@ -114,15 +110,6 @@ def _snapshot(folder: Path) -> dict[str, str]:
     return {p.relative_to(folder).as_posix():
             hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else "folder"
             for p in sorted(folder.rglob("*"))}
-
-
-def _main(argv: list[str], capsys) -> tuple[int, str, str]:
-    try:
-        code = main(argv)
-    except SystemExit as exit_:            # argparse: usage errors, --help
-        code = exit_.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def _entry_point(argv: list[str]) -> tuple[int, str, str]:
@@ -382,7 +369,7 @@ def _check(case, work, run) -> None:
 
 @pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
 def test_hostile_command_line(case, work, capsys):
-    _check(case, work, lambda argv: _main(argv, capsys))
+    _check(case, work, lambda argv: run_main(argv, capsys))
 
 
 @pytest.mark.parametrize("case", [c for c in CASES if c[0] in ENTRY_POINT],
@@ -392,12 +379,12 @@ def test_hostile_command_line_through_the_entry_point(case, work):
 
 
 def test_a_read_error_is_not_called_a_write_error(work, capsys, monkeypatch):
-    from filmscale.workflows import cli
+    from filmscale.workflows import impact_cli
 
     def unreadable(args):
         raise PermissionError(13, "Permission denied", "scene.toml")
-    monkeypatch.setattr(cli, "cmd_impact", unreadable)
-    code, _, err = _main(["impact", "scene.toml"], capsys)
+    monkeypatch.setattr(impact_cli, "cmd_impact", unreadable)
+    code, _, err = run_main(["impact", "scene.toml"], capsys)
     assert code == 2 and err == "filmscale: error: scene.toml: Permission denied\n"
 
 
@@ -443,7 +430,7 @@ def test_sigterm_mid_write_keeps_the_earlier_output(work, capsys, monkeypatch):
         os.kill(os.getpid(), signal.SIGTERM)
         return original(*args, **kwargs)
     monkeypatch.setattr(result, "dumps", terminated)
-    code, _, err = _main(["impact-map", "scene.toml", "--out", "map.h5"], capsys)
+    code, _, err = run_main(["impact-map", "scene.toml", "--out", "map.h5"], capsys)
     assert code == 130 and "interrupted" in err and "Traceback" not in err
     assert _temporaries(work) == [] and (work / "map.h5").read_bytes() == earlier
 
@@ -459,7 +446,7 @@ def test_a_killed_process_temporary_is_removed_by_the_next_write(work, capsys):
     elsewhere = work / f".m.h5{TEMP_MARK}another-node.{dead}.ghi789.h5"
     for p in (stale, live, elsewhere):
         p.write_bytes(b"half")
-    code, _, err = _main(["impact-map", "scene.toml", "--out", "m.h5"], capsys)
+    code, _, err = run_main(["impact-map", "scene.toml", "--out", "m.h5"], capsys)
     assert code == 0, err
     assert not stale.exists() and live.exists() and elsewhere.exists()
     assert (work / "m.h5").is_file()

@@ -50,8 +50,7 @@ def history_header(size: str) -> str:
 
 def _history_kind():
     """Any kind's history table may replace another's without --force."""
-    from filmscale.continuum.contact.kinds import KINDS, shapes
-    shapes()        # the package's kinds registered
+    from filmscale.continuum.contact.kinds import KINDS
     return text_kind(tuple({history_header(k.size) for k in KINDS.values()}),
                      "an impact history")
 

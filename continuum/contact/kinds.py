@@ -27,8 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from filmscale.core.checks import check_density
-from filmscale.core.errors import InputError
+from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.keys import REQUIRED, Key
+
+from .impact_map import GridMap, grid_map
+from .results import EXCEEDS_RADIUS, OK, STATUS_MESSAGES
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,9 +92,6 @@ class ModelKind:
             return ({k: np.asarray(getattr(found, k), dtype=float) for k in self.units
                      if hasattr(found, k)}
                     | {"yielded": np.asarray(found.yielded), "status": np.asarray(found.status)})
-        from filmscale.core.errors import ModelRangeError
-
-        from .results import EXCEEDS_RADIUS, OK
         V, R = np.broadcast_arrays(np.asarray(velocity, float), np.asarray(radius, float))
         out = {k: np.full(V.shape, np.nan) for k in self.units}
         out |= {"yielded": np.zeros(V.shape, bool), "status": np.full(V.shape, EXCEEDS_RADIUS)}
@@ -115,7 +115,6 @@ class ModelKind:
         """A map of this kind read back from its ``to_dict`` arrays (a file's group)."""
         if self.read_map is not None:
             return self.read_map(arrays, tuple(regime_names))
-        from .impact_map import GridMap
         values = {k: np.asarray(arrays[k], dtype=float) for k in self.units if k in arrays}
         return GridMap(velocity=np.asarray(arrays["velocity"]),
                        radius=np.asarray(arrays["radius"]), mass=float(arrays["mass"]),
@@ -128,14 +127,12 @@ class ModelKind:
 
     def messages(self) -> dict:
         """Status code -> message of the kind's results."""
-        from .results import STATUS_MESSAGES
         return dict(STATUS_MESSAGES if self.status_messages is None else self.status_messages)
 
 
 def point_map(kind: ModelKind, model, velocity, rows, mass, progress=None):
     """The `GridMap` of ``kind``: ``model.maxima`` one point at a time over the 1-D
     ``velocity`` (columns) and ``rows`` (radii)."""
-    from .impact_map import grid_map
     return grid_map(model, velocity, rows, mass, kind=kind.name, shape=kind.shape,
                     fields=kind.fields, units=kind.units, regime_names=kind.regime_names,
                     status_messages=kind.messages(), range_limit=kind.range_limit,
@@ -161,7 +158,6 @@ def unregister(name: str) -> None:
 
 def kind_named(name: str) -> ModelKind:
     """The kind registered as ``name``; InputError listing the kinds otherwise."""
-    _builtin()
     if name not in KINDS:
         raise InputError(f"model kind {name!r} is not one of: {', '.join(KINDS)}")
     return KINDS[name]
@@ -169,14 +165,12 @@ def kind_named(name: str) -> ModelKind:
 
 def shapes() -> tuple[str, ...]:
     """The impactor shapes the registered kinds model, in registration order."""
-    _builtin()
     return tuple(dict.fromkeys(k.shape for k in KINDS.values()))
 
 
 def kind_for(shape: str, oblique: bool = False) -> ModelKind:
     """The kind that models ``shape``, the oblique one when ``oblique``; InputError naming
     what exists otherwise."""
-    _builtin()
     found = [k for k in KINDS.values() if k.shape == shape]
     if not found:
         raise InputError(f"impactor.shape = {shape!r} is not one of: {', '.join(shapes())}")
@@ -192,7 +186,6 @@ def kind_for(shape: str, oblique: bool = False) -> ModelKind:
 def shape_keys(shape: str) -> tuple[Key, ...]:
     """Every key the kinds of ``shape`` read (a sphere's normal and oblique kinds share
     theirs), once each, in declaration order."""
-    _builtin()
     out: dict[str, Key] = {}
     for kind in KINDS.values():
         if kind.shape == shape:
@@ -202,7 +195,6 @@ def shape_keys(shape: str) -> tuple[Key, ...]:
 
 def all_keys() -> dict[str, tuple[Key, tuple[str, ...]]]:
     """Every kind-specific key name -> (its Key, the shapes that read it)."""
-    _builtin()
     out: dict[str, tuple[Key, tuple[str, ...]]] = {}
     for kind in KINDS.values():
         for key in kind.keys:
@@ -214,7 +206,6 @@ def all_keys() -> dict[str, tuple[Key, tuple[str, ...]]]:
 def map_units() -> dict[str, str]:
     """The unit of every array a map of any registered kind may hold; status, regime and
     flags are "1", the axes and the mass their own."""
-    _builtin()
     units = {"velocity": "m/s", "radius": "m", "mass": "kg", "angle": "degrees"}
     for kind in KINDS.values():
         units.update(kind.units)
@@ -315,8 +306,7 @@ def _sphere_kinds() -> tuple[ModelKind, ModelKind]:
 
 
 def _cylinder_kind() -> ModelKind:
-    from .cylinder import CylinderImpactModel, check_cylinder_mass
-    from .cylinder import REGIME_NAMES
+    from .cylinder import REGIME_NAMES, CylinderImpactModel, check_cylinder_mass
     from .impact_map import (CYLINDER_MAP_FIELDS, CYLINDER_STATUS_MESSAGES, CYLINDER_UNITS,
                              cylinder_map)
 
@@ -360,18 +350,6 @@ def _cylinder_kind() -> ModelKind:
         label=lambda options: f"cylinder L = {options['length']:g} m")
 
 
-_LOADED = []
-
-
-def _builtin() -> None:
-    """Register the package's own kinds on first use (they import scipy-free modules only,
-    but the registry itself stays cheap to import)."""
-    if _LOADED:
-        return
-    _LOADED.append(True)
-    for kind in (*_sphere_kinds(), _cylinder_kind()):
-        KINDS.setdefault(kind.name, kind)
-    # the package's kinds first, in this order, then any registered before first use
-    for name in [n for n in KINDS if n not in ("sphere", "sphere-oblique", "cylinder")]:
-        KINDS[name] = KINDS.pop(name)
-
+# the package's own kinds, in this order; others join with `register`
+for _kind in (*_sphere_kinds(), _cylinder_kind()):
+    register(_kind)

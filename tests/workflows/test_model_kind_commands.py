@@ -18,24 +18,13 @@ from filmscale.workflows.result import read_impact_maps
 from filmscale.workflows.scene import parse_scene
 from tests.helpers.curves import sphere_curve_file
 from tests.helpers.flat_punch import FLAT_PUNCH, punch_closed_form, punch_map_reference
+from tests.helpers.scenes import MINIMAL
 
-PUNCH = """
-[impactor]
-shape = "flat-punch"
-radius = 2e-6
-mass = 1e-9
-velocity = 0.5
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-
-[map]
-velocity = [0.1, 1.0, 3]
-radius = [1e-6, 4e-6, 2]
-"""
+#: MINIMAL's glass hit by a flat punch of radius 2 um, 1 ng, at 0.5 m/s, with a map
+PUNCH = (MINIMAL.replace('shape = "sphere"', 'shape = "flat-punch"')
+         .replace("radius = 10e-6", "radius = 2e-6").replace("mass = 1.6e-6", "mass = 1e-9")
+         .replace("velocity = 0.2", "velocity = 0.5")
+         + "\n[map]\nvelocity = [0.1, 1.0, 3]\nradius = [1e-6, 4e-6, 2]\n")
 E_STAR = 90e9 / (1 - 0.25 ** 2)
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+from matplotlib.ticker import NullLocator
 
 from filmscale.continuum.calibration.result import (FITS_E, FITS_SIGMA_Y, CrossCheck,
                                                     pop_in_range)
@@ -24,7 +25,9 @@ from filmscale.continuum.contact.kinds import kind_named
 from filmscale.core.quantities import eng
 from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS, read_map_group
 
-from .plots import new_figure, draw_map_field, save_figure
+from .plots import (CONTINUUM_MIN_APPROACH, draw_map_field, key_legend, map_keys,
+                    mark_below_validity, new_figure, readable_log_axis, save_figure,
+                    validity_key)
 
 
 def _png(fig) -> str:
@@ -133,7 +136,7 @@ def _draw_calibration(ax, group, title: str):
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel(f"load P ({unit})")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, loc="upper left", framealpha=0.8)
+    ax.legend(fontsize=7, loc="best", framealpha=0.8)       # where it covers no point
 
 
 def _draw_residuals(ax, group):
@@ -154,7 +157,7 @@ def _draw_residuals(ax, group):
     ax.set_xlabel("depth h (nm)")
     ax.set_ylabel("(model - curve) / P_max (%)")
     ax.set_title(check_verdict(check), fontsize=7.5)
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="best")
 
 
 def check_verdict(check: CrossCheck) -> str:
@@ -182,15 +185,59 @@ def check_verdict(check: CrossCheck) -> str:
     return "\n".join(lines)
 
 
-def _draw_profile(ax, group, radius):
+def scene_stack(f) -> tuple[list[tuple[str, float]], str]:
+    """(name, thickness) of each layer of a scene result's scene, top first, and the name
+    of its substrate; ([], "") where the scene's text does not say (a profile, not TOML)."""
+    import tomllib
+    try:
+        text = f["scene"][()]
+        target = tomllib.loads(text.decode() if isinstance(text, bytes) else str(text))["target"]
+        layers = [(str(layer.get("name", f"layer {k + 1}")), float(layer["thickness"]))
+                  for k, layer in enumerate(target.get("layers", []))]
+        return layers, str(target["substrate"].get("name", "substrate"))
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError, AttributeError):
+        return [], ""
+
+
+def _mark_interfaces(ax, stack) -> None:
+    """A dotted line at each interface's depth (nm) of ``stack`` (`scene_stack`), named on
+    a top axis by the layers either side ("Cu film | glass")."""
+    layers, substrate = stack
+    names = [name for name, _ in layers] + [substrate]
+    depths = np.cumsum([t for _, t in layers]) * 1e9
+    lo, hi = ax.get_xlim()
+    inside = [k for k, d in enumerate(depths) if lo < d < hi]
+    for k in inside:
+        ax.axvline(depths[k], color="0.5", ls=":", lw=0.9)
+    if inside:
+        top = ax.secondary_xaxis("top")
+        top.set_xticks([depths[k] for k in inside],
+                       labels=[f"{names[k]} | {names[k + 1]}" for k in inside], fontsize=7)
+        top.xaxis.set_minor_locator(NullLocator())
+
+
+def _draw_profile(ax_E, ax_sy, group, radius, stack=([], "")):
+    """The stack's effective plane-strain modulus (on ``ax_E``) and yield strength (on
+    ``ax_sy``, its own axis) against the approach under a sphere of ``radius``, Gao-weighted,
+    with the interfaces of ``stack`` (`scene_stack`) marked and named."""
     d = group["delta"][()] * 1e9
-    ax.semilogx(d, group["E_p"][()] * 1e-9, label="E/(1-nu^2) (GPa)")
-    ax.semilogx(d, group["sigma_y"][()] * 1e-9 * 10, label="10 x sigma_y (GPa)")
-    ax.set_xlabel("approach delta (nm)")
-    ax.set_ylabel("modulus, strength (GPa)")
-    ax.set_title(f"effective properties, sphere R = {radius * 1e6:.3g} um (Gao weighting)",
-                 fontsize=9)
-    ax.legend(fontsize=8)
+    layers, substrate = stack
+    what = " on ".join([f"{name} ({eng(t, 'm', 3)})" for name, t in layers] +
+                       [substrate] if substrate else [])
+    panels = ((ax_E, "E_p", "effective E/(1-ν²) (GPa)", "C0"),
+              (ax_sy, "sigma_y", "effective yield strength σ_y (GPa)", "C1"))
+    for ax, key, label, colour in panels:
+        ax.plot(d, group[key][()] * 1e-9, color=colour)
+        ax.set_xscale("log")
+        readable_log_axis(ax.xaxis)
+        ax.set_xlabel("approach δ (nm)")
+        ax.set_ylabel(label)
+        _mark_interfaces(ax, stack)
+    ax_E.set_title(_wrapped(f"{what + ': ' if what else ''}effective properties under a "
+                            f"sphere of R = {eng(radius, 'm')} (Gao weighting)", 58),
+                   fontsize=9)
+    if layers:
+        ax_sy.set_title("dotted: approach = depth of an interface", fontsize=8)
 
 
 MAP_PANELS = (("delta_max", "maximum approach (nm)", 1e9),
@@ -205,25 +252,46 @@ def result_map(group):
     return kind.map_from_arrays(read_map_group(group))
 
 
-def _draw_band(ax, impact, key, label, scale):
+def _draw_band(ax, impact, key, label, scale) -> bool:
     """The map's ``key`` against V at the map radius nearest the scene's R, with the band
-    of +- 2 standard deviations from the calibrations (``map_std``)."""
+    of +- 2 standard deviations from the calibrations (``map_std``) where it is wider than
+    the line (else the title says it is narrower), and the velocities where the approach is
+    below a continuum's validity dotted; whether any were."""
     V, R = impact["map/velocity"][()], impact["map/radius"][()]
     i = int(np.argmin(np.abs(np.log(R / float(impact["point/radius"][()])))))
     value = impact[f"map/{key}"][()][i] * scale
     std = impact[f"map_std/{key}"][()][i] * scale
     # a linearised band must not promise a rebound faster than the impact
     high = np.minimum(value + 2 * std, 1.0) if key == "restitution" else value + 2 * std
-    ax.fill_between(V, value - 2 * std, high, alpha=0.3,
-                    label="+- 2 std (calibration)")
-    ax.plot(V, value, label=f"R = {R[i] * 1e6:.3g} um")
+    # visible: wider than about two line widths (3 % of the axis) somewhere
+    span = float(np.nanmax(value) - np.nanmin(value)) or float(np.nanmax(np.abs(value)))
+    visible = bool(np.nanmax(high - value + 2 * std) > 0.03 * span)
+    if visible:
+        ax.fill_between(V, value - 2 * std, high, alpha=0.3, label="+- 2 std (calibration)")
+    ax.plot(V, value, color="C0")
+    below = (impact["map/delta_max"][()][i] < CONTINUUM_MIN_APPROACH
+             if "delta_max" in impact["map"] else np.zeros(V.size, bool))
+    if below.any():
+        mark_below_validity(ax, V, below)
     ax.set_xscale("log")
+    readable_log_axis(ax.xaxis)
     ax.set_xlabel("impact velocity V (m/s)")
     ax.set_ylabel(label)
     with np.errstate(divide="ignore", invalid="ignore"):
         widest = np.nanmax(np.where(value != 0, 2 * std / np.abs(value), np.nan))
-    ax.set_title(f"{label}: 2 std at most {widest:.2%} of the value", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title(f"{label.split(' (')[0]} at R = {eng(R[i], 'm')}:\n2 std at most "
+                 f"{widest:.2%} of the value" + ("" if visible else
+                                                 " (band narrower than the line)"),
+                 fontsize=9)
+    if visible:
+        ax.legend(fontsize=8, loc="best")
+    return bool(below.any())
+
+
+def _profile_figure(f, radius) -> str:
+    fig, axes = new_figure(1, 2, figsize=(10, 3.8))
+    _draw_profile(*axes, f["profile"], radius, scene_stack(f))
+    return _png(fig)
 
 
 def _panel(draw, *args, size=(5, 3.6)) -> str:
@@ -244,63 +312,69 @@ def bound_note(calibration_group) -> str:
 
 
 def _map_figure(group, note: str = "") -> str:
-    fig, axes = new_figure(1, 3, figsize=(13, 3.6))
+    """The report's map panels: those of `MAP_PANELS` the map's model kind has (a flat
+    punch has no crater), with the keys of what is drawn over them."""
     m = result_map(group)
-    for ax, (key, label, _) in zip(axes, MAP_PANELS):
-        if key in m.units:      # a model kind may have no crater (a flat punch)
-            draw_map_field(fig, ax, m, key, label=label)
-        else:
-            ax.set_axis_off()
-    if note:
-        fig.suptitle(note, fontsize=9)
+    panels = ([panel for panel in MAP_PANELS if panel[0] in m.units]
+              or [(key, None, 1.0) for key in list(m.units)[:1]])    # a kind of its own
+    fig, axes = new_figure(1, len(panels), figsize=(4.4 * len(panels), 4.0), squeeze=False)
+    for ax, (key, label, _) in zip(axes[0], panels):
+        draw_map_field(fig, ax, m, key, label=label, keys=False)
+    key_legend(fig, map_keys([m], [key for key, _, _ in panels]), title=note)
     return _png(fig)
 
 
 def _band_figure(impact) -> str:
-    fig, axes = new_figure(1, 2, figsize=(10, 3.6))
-    for ax, panel in zip(axes, MAP_PANELS[:2]):
-        _draw_band(ax, impact, *panel)
+    fig, axes = new_figure(1, 2, figsize=(10, 3.8))
+    below = [_draw_band(ax, impact, *panel) for ax, panel in zip(axes, MAP_PANELS[:2])]
+    key_legend(fig, [validity_key()] if any(below) else [])
     return _png(fig)
 
 
+def _map_columns(fig, grid, col: int, f, bands: bool) -> None:
+    """The scene figure's maximum approach and restitution maps from column ``col``, over
+    both rows or over their +- 2 std bands (``bands``), and the keys at its head."""
+    m = result_map(f["impact/map"])
+    note = bound_note(f["calibration"])
+    for k, (key, label, scale) in enumerate(MAP_PANELS[:2]):
+        ax = fig.add_subplot(grid[0, col + k] if bands else grid[:, col + k])
+        draw_map_field(fig, ax, m, key, label=label, keys=False)
+        ax.set_title(label.split(" (")[0] + (f"\n{note}".replace(" (>=", "\n(>=")
+                                             if note else ""), fontsize=8)
+        if bands:
+            _draw_band(fig.add_subplot(grid[1, col + k]), f["impact"], key, label, scale)
+    key_legend(fig, map_keys([m], [key for key, _, _ in MAP_PANELS[:2]]))
+
+
 def scene_figure(result):
-    """One Figure summing up a scene result: the first calibrated layer's curves with the
-    points each parameter was fitted on and the calibrated forward model, its residuals
-    beneath with the cross-scale check's verdict, the depth profile, and the map's maximum
-    approach and restitution (when there is a map), with their +- 2 std bands at the
-    scene's radius (when the calibrations give standard deviations)."""
+    """One Figure summing up a scene result, every panel of its grid used: the first
+    calibrated layer's curves with the points each parameter was fitted on and the
+    calibrated forward model, its residuals beneath with the cross-scale check's verdict;
+    the stack's effective modulus and yield strength against the approach (the layers and
+    substrate named); and the map's maximum approach and restitution (when there is a map),
+    above their +- 2 std bands at the scene's radius (when the calibrations give standard
+    deviations). The keys of the maps' lines, hatching and dots at its head."""
     from matplotlib.figure import Figure
     with _result_file(Path(result)) as f:
         has_map = "map" in f["impact"]
         bands = has_map and "map_std" in f["impact"]
-        cols = 4 if has_map else 2
-        fig = Figure(figsize=(4.6 * cols, 8.4 if bands else 6.4), layout="constrained")
-        grid = fig.add_gridspec(2, cols, height_ratios=(1.6, 1.0))
-
-        def panel(row, col):
-            # without bands the right-hand panels take both rows
-            return fig.add_subplot(grid[row, col] if bands or col == 0 else grid[:, col])
         calibration = list(f["calibration"])[:1]
+        cols = len(calibration) + 1 + 2 * has_map
+        fig = Figure(figsize=(4.6 * cols, 8.6 if bands else 6.8), layout="constrained")
+        grid = fig.add_gridspec(2, cols, height_ratios=(1.6, 1.0))
         for key in calibration:
             g = f["calibration"][key]
             cal = json.loads(g.attrs["calibration"])
             law = "pop-in law" if cal["model"].startswith("pop-in law") else cal["route"]
-            _draw_calibration(panel(0, 0), g, f"{g.attrs['layer']} ({law}): "
+            _draw_calibration(fig.add_subplot(grid[0, 0]), g, f"{g.attrs['layer']} ({law}): "
                               f"E {_quantity(cal['E']['value'], 'Pa', cal['E']['std'])},\n"
                               f"sigma_y {_bounded_quantity(cal['sigma_y'])}")
-            _draw_residuals(panel(1, 0), g)
-        _draw_profile(panel(0, 1),
-                      f["profile"], float(f["impact/point/radius"][()]))
+            _draw_residuals(fig.add_subplot(grid[1, 0]), g)
+        col = len(calibration)
+        _draw_profile(fig.add_subplot(grid[0, col]), fig.add_subplot(grid[1, col]),
+                      f["profile"], float(f["impact/point/radius"][()]), scene_stack(f))
         if has_map:
-            m = result_map(f["impact/map"])
-            note = bound_note(f["calibration"])
-            for col, (key, label, _) in zip((2, 3), MAP_PANELS[:2]):
-                ax = panel(0, col)
-                draw_map_field(fig, ax, m, key, label=label)
-                ax.set_title(note.replace(" (>=", "\n(>="), fontsize=8)
-        if bands:
-            for col, item in zip((1, 2), MAP_PANELS[:2]):
-                _draw_band(panel(1, col), f["impact"], *item)
+            _map_columns(fig, grid, col + 1, f, bands)
     return fig
 
 
@@ -397,8 +471,7 @@ def write_report(result, out=None) -> Path:
                     ("source", "route", "E alone", "E in the joint fit", "sigma_y alone")))
             parts += [f"<p>warning: {html.escape(w)}</p>" for w in cal["warnings"]]
         radius = float(f["impact/point/radius"][()])
-        parts += ["<h2>Depth profile</h2>", _panel(_draw_profile, f["profile"], radius),
-                  "<h2>Impact</h2>"]
+        parts += ["<h2>Depth profile</h2>", _profile_figure(f, radius), "<h2>Impact</h2>"]
         point = f["impact/point"]
         units = {k: "" if u == "1" else u for k, u in ImpactMaxima.UNITS.items()}
         parts.append(_table([(k, _quantity(float(point[k][()]), units.get(k, "")))
@@ -409,8 +482,9 @@ def write_report(result, out=None) -> Path:
                       _map_figure(f["impact/map"], note)]
         if "map_std" in f["impact"]:
             parts += ["<p>Bands: +- 2 standard deviations of the impact results from the "
-                      "calibrated parameters' standard deviations (linearised, parameters "
-                      "taken as independent); <code>map_std</code> in the result file holds "
+                      "calibrated parameters' standard deviations (linearised, with the "
+                      "parameters' correlation from the fits); <code>map_std</code> in the "
+                      "result file holds "
                       "them for every map field.</p>", _band_figure(f["impact"])]
         scene = f["scene"][()]
         scene = scene.decode() if isinstance(scene, bytes) else str(scene)

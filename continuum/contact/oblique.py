@@ -1,7 +1,12 @@
 """Oblique impact of a sphere with Coulomb friction, tangential compliance and rotation.
 
-A sphere (mass m, radius R, moment of inertia I = j m R^2) meets the target with normal speed
-V and tangential speed V_t = V tan(theta), without spin. Equations: docs/physics.md section 5.
+An impactor with a spherical tip of radius R, its own mass m and its own moment of inertia
+I = j m R^2 about the tip's centre, where its centre of mass lies, meets the target with
+normal speed V and tangential speed V_t = V tan(theta), without spin. A sphere has j <= 2/3
+(0.4 solid, 2/3 thin shell); a body with mass beyond R has j > 1, up to
+`INERTIA_FACTOR_MAX` (1e8: a body that does not turn). Equations: docs/physics.md section 5;
+the mass and inertia of a slider corner, whose centre of mass is far from the corner:
+docs/slider-dynamics.md.
 
 Model (Thornton 1997; Wu, Thornton & Li 2009 for the decoupling; Popov & Hess 2015 for the
 tangential contact):
@@ -18,7 +23,9 @@ tangential contact):
   |f(x)| <= mu q(x) dx on its own, and a spring that leaves the contact losing its force. For
   a Hertz contact this is the exact Mindlin-Deresiewicz solution for any history (Popov & Hess
   2015), so it gives Maw, Barber & Fawcett's curves, including the reversal of the contact
-  point at small angles, and their gross-slip boundary psi_1 = 4 chi - 1.
+  point at small angles, and the gross-slip boundary psi_1 = max(1, 4 chi - 1)
+  (`gross_slip_boundary`: MBF's 4 chi - 1 for every sphere, and 1, Mindlin's initial slip,
+  for a body that turns little).
 - Sign convention: x along the incident tangential velocity; omega > 0 is forward rolling, so
   the contact point slides at v_c = v_x - R omega; F_t > 0 acts on the sphere along -x:
   m dv_x/dt = -F_t, I d(omega)/dt = R F_t.
@@ -30,8 +37,9 @@ Two paths:
 - ``"fast"``: the normal maxima by energy quadrature (`ImpactModel.maxima`) and the
   tangential results in closed form where one exists: no friction or no tangential speed
   (e_x = 1), or a Hertz (elastic, uniform target) contact that slips throughout
-  (psi_1 >= 4 chi - 1): then J_t = mu J_n and e_x = 1 - mu (1 + e_n) / tan(theta). Any other
-  impact goes to time integration (``path`` of the result says which was used).
+  (psi_1 >= max(1, 4 chi - 1)): then J_t = mu J_n and e_x = 1 - mu (1 + e_n) / tan(theta)
+  for any j (the spin is then R J_t / I). Any other impact goes to time integration
+  (``path`` of the result says which was used).
 - ``"time"``: the normal history (`ImpactModel.history`) interpolated (PCHIP) in time and
   the spring line stepped through the contact at fixed steps (velocity Verlet; the normal
   force rescaled so that its impulse is the history's m V (1 + e_n) exactly).
@@ -56,6 +64,11 @@ from .results import ImpactResult
 
 #: moment of inertia of a solid sphere in units of m R^2
 SOLID_SPHERE = 0.4
+#: the largest inertia factor j = I / (m R^2): at 1e8 the spin's share 1 / (1 + j) of the
+#: contact point's tangential compliance is 1e-8, below every tolerance of the model, so a
+#: larger j changes no result but the (vanishing) spin; state 1e8 for a body that does not
+#: turn (docs/physics.md section 5).
+INERTIA_FACTOR_MAX = 1e8
 REGIMES = ("stick", "slip", "stick-slip")
 #: time steps and springs (one side) of the time path: e_x within about 1e-3 of converged
 STEPS, SPRINGS = 2000, 400
@@ -111,10 +124,11 @@ class ObliqueResult:
 
 def oblique_inputs(angle, friction, inertia_factor=SOLID_SPHERE):
     """(angle, friction, inertia_factor) checked: theta in [0, 90) degrees, mu in [0, 10],
-    j in (0, 1] (a solid sphere 0.4, a thin shell 2/3)."""
+    j in (0, 1e8] (a solid sphere 0.4, a thin shell 2/3, a body that does not turn 1e8)."""
     return (check_real("angle", angle, low=0.0, high=90.0, high_open=True, unit="degrees"),
             check_real("friction", friction, low=0.0, high=10.0),
-            check_real("inertia_factor", inertia_factor, low=0.0, high=1.0, low_open=True))
+            check_real("inertia_factor", inertia_factor, low=0.0, high=INERTIA_FACTOR_MAX,
+                       low_open=True))
 
 
 def tangential_modulus(model: ImpactModel, delta, R):
@@ -135,6 +149,23 @@ def stiffness_ratio(model: ImpactModel, delta, R) -> float:
     return float(4.0 * tangential_modulus(model, delta, R) / model.properties(delta, R)[0])
 
 
+def gross_slip_boundary(kappa: float, j: float) -> float:
+    """The psi_1 = kappa V_t / (mu V) above which an elastic (Hertz) contact slides throughout
+    the impact, for k_t / k_n = kappa and inertia factor j: max(1, 4 chi - 1), with
+    chi = (kappa / 2) (1 + 1/j).
+
+    Sliding throughout puts every spring of the MDR line at its Coulomb limit, whose
+    displacement mu q(x) / (4 G*) = mu (a^2 - x^2) / (kappa R) grows at mu d(delta)/dt / kappa
+    at every x; the contact point slides at v_c = V_t - (1 + 1/j) mu (V - d(delta)/dt). So
+    v_c >= mu d(delta)/dt / kappa throughout, linear in d(delta)/dt, which runs from V to -V:
+    psi_1 >= 1 at the start (Mindlin's initial slip) and psi_1 >= 4 chi - 1 at the end
+    (Maw, Barber & Fawcett). The end binds when chi > 1/2, which holds for every sphere
+    (j <= 1 gives chi >= kappa >= 2/3); the start binds for a body that turns little,
+    j > kappa / (1 - kappa) (4.7 at nu = 0.3)."""
+    chi = 0.5 * kappa * (1.0 + 1.0 / j)
+    return max(1.0, 4.0 * chi - 1.0)
+
+
 def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *,
                   inertia_factor=SOLID_SPHERE, path="fast", rtol=1e-8,
                   samples=2000, steps=STEPS, springs=SPRINGS) -> ObliqueResult:
@@ -151,7 +182,9 @@ def solve_oblique(model: ImpactModel, velocity, radius, mass, angle, friction, *
     friction : float
         Coulomb coefficient mu >= 0.
     inertia_factor : float
-        j = I / (m R^2): 0.4 for a solid sphere.
+        j = I / (m R^2), I about the tip's centre (the centre of mass): 0.4 for a solid
+        sphere, up to 1e8 (a body that does not turn); a slider corner:
+        docs/slider-dynamics.md.
     path : str
         "fast" (closed form where one exists, else time integration) or "time".
     rtol : float
@@ -190,9 +223,9 @@ def _closed_form(model, normal, theta, mu, j, gross_slip=True) -> ObliqueResult 
     elastic = model.law.regime_names.index(normal.regime) < model.law.reversible_branches
     if gross_slip and model.target.uniform and elastic:
         kappa = stiffness_ratio(model, 0.0, R)
-        chi = 0.5 * kappa * (1.0 + 1.0 / j)
-        if kappa * v_t / (mu * V) >= 4.0 * chi - 1.0:
+        if kappa * v_t / (mu * V) >= gross_slip_boundary(kappa, j):
             j_t = mu * V * (1.0 + normal.restitution)      # slip throughout: J_t / m = mu J_n / m
+            # m dv_x = -J_t, I d(omega) = R J_t: R d(omega) = J_t / (j m)
             return _result(normal, theta, mu, j, v_t - j_t, j_t / j, "slip",
                            "closed form (gross slip)")
     return None

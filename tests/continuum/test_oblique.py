@@ -148,7 +148,8 @@ def test_stick_phase_spins_the_sphere_and_can_reverse_the_contact_point():
 
 @pytest.mark.parametrize("kw", [dict(angle=90.0), dict(angle=-1.0), dict(angle=float("nan")),
                                 dict(friction=-0.1), dict(friction=math.inf),
-                                dict(inertia_factor=0.0), dict(path="slow")])
+                                dict(inertia_factor=0.0), dict(inertia_factor=2e8),
+                                dict(inertia_factor=math.inf), dict(path="slow")])
 def test_bad_inputs_raise(kw):
     args = dict(angle=30.0, friction=0.2) | kw
     with pytest.raises(InputError):

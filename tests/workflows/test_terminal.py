@@ -213,7 +213,7 @@ def test_impact_prints_engineering_units_and_json_stays_si(capsys):
         assert eng(data[key], unit) in text
     assert re.search(r"maximum approach +\d+(\.\d+)? nm\n", text)
     assert re.search(r"maximum mean pressure \d+(\.\d+)? GPa\n", text)
-    assert "R = 10 µm, m = 1.6 mg at V = 0.2 m/s" in text
+    assert "R = 10 µm, m = 240 µg at V = 0.2 m/s" in text
 
 
 def test_impact_map_summary_prints_engineering_units(tmp_path, capsys):

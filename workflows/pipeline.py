@@ -37,10 +37,34 @@ class SceneResult:
     plan: Plan
     units: dict            #: unit directory -> "ran" or "reused"
 
+    @classmethod
+    def open(cls, path) -> SceneResult:
+        """An existing scene result (the RESULT.h5 of `filmscale run` or `run_scene`): its
+        plan from the file's ``plan`` attribute, its ``units`` from a ``units`` attribute
+        (JSON) where the file records one, else empty (a result file does not list the store
+        units that made it). InputError for any other file, or a damaged one."""
+        import h5py
+
+        from filmscale.workflows.outputs import describe, hdf5_format
+        from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS
+        path = Path(path)
+        if not path.is_file() or hdf5_format(path) not in RESULT_FORMATS:
+            what = describe(path) if path.is_file() else "not a file"
+            raise InputError(f"{path} is {what}; SceneResult.open expects a scene result "
+                             f"(format {RESULT_FORMAT}, the RESULT.h5 of filmscale run)")
+        try:
+            with h5py.File(path, "r") as f:
+                plan = Plan.from_dict(json.loads(f.attrs["plan"]))
+                units = json.loads(f.attrs["units"]) if "units" in f.attrs else {}
+        except (KeyError, OSError, TypeError, ValueError) as err:
+            raise InputError(f"scene result {path} is damaged or incomplete: {err}") from None
+        return cls(path, plan, dict(units))
+
     def to_xarray(self):
         """The impact map (impact/map) as an xarray Dataset over (radius, velocity), SI
         with ``units`` attributes, each field's standard deviation from the calibrations
-        (impact/map_std) as ``<field>_std`` where the calibrations give one."""
+        (impact/map_std) as ``<field>_std`` where the calibrations give one (where the plan
+        left the calibrated layers out, none, and ``attrs["std_note"]`` says why)."""
         import h5py
         import xarray as xr
         with h5py.File(self.path, "r") as f:
@@ -51,6 +75,8 @@ class SceneResult:
         with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map") as ds:
             ds = ds.load()
         if "map_std" not in groups:         # no calibrated spread
+            if self.plan.decisions.get("std"):      # why: a calibrated layer left out
+                ds.attrs["std_note"] = self.plan.decisions["std"]
             return ds
         with xr.open_dataset(self.path, engine="h5netcdf", group="impact/map_std") as std:
             std = std.load()
@@ -58,7 +84,10 @@ class SceneResult:
 
     def to_dataframe(self):
         """The scene's impact (impact/point) as a table: one row per quantity, its value,
-        standard deviation from the calibrations (NaN where none) and unit (SI)."""
+        standard deviation from the calibrations (NaN where none), unit (SI) and
+        ``std_note``: why the std is NaN (empty where it is a number). Where the plan's
+        target holds no calibrated layer (the substrate alone), the std is not computed:
+        NaN with the plan's reason (``decisions["std"]``), also in ``attrs["std_note"]``."""
         import h5py
         import pandas as pd
 
@@ -68,10 +97,16 @@ class SceneResult:
             point = {k: float(f["impact/point"][k][()]) for k in f["impact/point"]}
             std = ({k: float(v[()]) for k, v in f["impact/point_std"].items()}
                    if "point_std" in f["impact"] else {})
-        return pd.DataFrame({"value": point,
-                             "std": {k: std.get(k, float("nan")) for k in point},
-                             "unit": {k: units.get(k, "") for k in point}}).rename_axis(
-                                 "quantity")
+        reason = self.plan.decisions.get("std") or (
+            "not a quantity the calibrations' spread is propagated to" if std else
+            "no calibrated parameter with a standard deviation")
+        std = {k: std.get(k, math.nan) for k in point}
+        table = pd.DataFrame({"value": point, "std": std,
+                              "unit": {k: units.get(k, "") for k in point},
+                              "std_note": {k: "" if math.isfinite(v) else reason
+                                           for k, v in std.items()}}).rename_axis("quantity")
+        table.attrs["std_note"] = self.plan.decisions.get("std", "")
+        return table
 
     def calibrations(self) -> dict[str, Calibration]:
         """The calibrated layers by name, as `Calibration` objects (value, std, identified
@@ -140,7 +175,8 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
             impact_path.mkdir(parents=True, exist_ok=True)
             perturbed = [pipeline.completed({**materials,
                                              k: replace(materials[k], **{name: value})},
-                                            h_star) for k, name, value in spread]
+                                            h_star) for k, name, value in spread
+                         if not plan.decisions.get("std")]     # left out: NaN, not 0
             impact_evaluation(scene, plan, impact_path, perturbed, correlation)
             finish_unit(impact_path, {"decisions": plan.decisions}, ("impact.npz",))
             units[impact_path.name] = "ran"

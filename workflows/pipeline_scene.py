@@ -157,6 +157,12 @@ class PipelineScene:
     friction: float
     angle: float
 
+    @property
+    def model_target(self) -> str:
+        """``model.target`` (checked by `parse_pipeline`): "auto", "layered" or "substrate"."""
+        model = self.data.get("model")
+        return str(model.get("target", "auto")) if isinstance(model, dict) else "auto"
+
     def map_spec(self) -> MapSpec:
         """The scene's [map] axes (known before any calibration)."""
         impactor = read_impactor(self.data)
@@ -261,15 +267,16 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
         raise InputError(f"outputs.want must be a list from {', '.join(OUTPUTS)}; got {want!r}")
     for i, w in enumerate(want):
         check_choice(f"outputs.want[{i}]", w, OUTPUTS)
-    tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=1e-6,
+    # 0: keep everything the rules can keep (rule 3 keeps the films whenever they change
+    # the maxima at all; docs/pipeline.md, "The plan")
+    tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=0.0,
                            high=0.5)
     imp = data.get("impactor", {})
     contact = data.get("contact") if isinstance(data.get("contact"), dict) else {}
-    if "friction" in contact and "friction" in imp:
-        raise InputError("contact.friction and impactor.friction (its older name) are the same "
-                         "coefficient: give one")
-    friction = check_real("contact.friction" if "friction" in contact else "impactor.friction",
-                          contact.get("friction", imp.pop("friction", 0.0)), low=0.0, high=10.0)
+    if "friction" in imp:
+        raise InputError("impactor.friction: the friction coefficient is [contact] friction, "
+                         "as in `filmscale impact` (docs/scenes.md)")
+    friction = check_real("contact.friction", contact.get("friction", 0.0), low=0.0, high=10.0)
     angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
                        high_open=True, unit="degrees")
     sources = []

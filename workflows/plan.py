@@ -7,14 +7,21 @@ Rules (docs/physics.md; benchmarks/impact_speed_vs_error.py):
    an angle above 0 with friction above 0, or tangential outputs asked for; otherwise the
    normal impact (a normal approach has no tangential force, a frictionless one leaves the
    tangential velocity unchanged). Tangential outputs with a normal approach are refused.
-3. The films are modelled (Gao-weighted profile) only where skipping them changes the
-   maxima by more than the tolerance at the scene's extreme points; otherwise the substrate
-   alone, with that change reported as the error of skipping them.
+3. The films (Gao-weighted profile, or the measured `target.profile`) are modelled only
+   where skipping them changes the maxima by more than the tolerance at the scene's extreme
+   points; otherwise the substrate alone, with that change reported as the error of skipping
+   them. A tolerance of 0 keeps them whenever they change anything. ``model.target``
+   ("layered" or "substrate") overrides the rule; the step then says so, with the measured
+   change. Calibrated layers that the chosen target leaves out give the results no standard
+   deviation: it is not computed (NaN), and an "uncertainty" step says why.
 4. The closed-form Hertz impact where no point yields; otherwise the elastic-plastic law.
 5. The fast maxima path (energy quadrature) unless time histories are asked for.
 6. An MD source's settings are read against the measured speed-against-error table
    (`workflows.md_settings`): its bias and seed scatter are stated, and settings whose effect
-   on the film's E exceeds the scene's tolerance, or cheaper ones within it, are named.
+   on the film's E exceeds the scene's tolerance, or cheaper ones within it, are named
+   (with a tolerance of 0: every setting the table measured to move E, an ensemble always,
+   and no cheaper setting).
+Rules 1, 2, 4 and 5 read no tolerance.
 """
 
 from __future__ import annotations
@@ -84,6 +91,18 @@ class Plan:
 
     def to_dict(self) -> dict:
         return {"steps": [asdict(s) for s in self.steps], "decisions": self.decisions}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Plan:
+        """The plan `to_dict` wrote (a result file's ``plan`` attribute)."""
+        steps = tuple(Step(**{**s, "advice": tuple(s.get("advice", ()))})
+                      for s in data["steps"])
+        return cls(steps, dict(data.get("decisions", {})))
+
+
+def percent(x: float) -> str:
+    """A tolerance as a percentage: 5%, 0.1%, 0%."""
+    return f"{100 * x:g}%"
 
 
 def _calibration_step(src: CalibrationSource, base: Path, joint: bool,
@@ -178,10 +197,15 @@ def _direction_step(outputs, friction: float, angle: float) -> Step:
 
 def check_request(pipeline: PipelineScene) -> None:
     """What the impact rules refuse whatever the calibrations find: an oblique or tangential
-    request (rule 2), a shape without an oblique model, and a map without valid axes. `plan`
-    and `run` check it before any unit runs, so that a run never stops there after its MD
-    runs."""
+    request (rule 2), model.target = "layered" without films (rule 3), a shape without an
+    oblique model, and a map without valid axes. `plan` and `run` check it before any unit
+    runs, so that a run never stops there after its MD runs."""
     _check_direction(pipeline.outputs, pipeline.friction, pipeline.angle)
+    target = pipeline.data.get("target")
+    if pipeline.model_target == "layered" and isinstance(target, dict) and \
+            not target.get("layers") and "profile" not in target:
+        raise InputError('model.target = "layered" keeps the films, but the target has none '
+                         "(no target.layers, no target.profile)")
     if _oblique(pipeline.outputs, pipeline.friction, pipeline.angle):
         kind_for(pipeline.data["impactor"].get("shape", "sphere"), oblique=True)
     if "map" in pipeline.outputs:
@@ -225,33 +249,94 @@ def gao_error(scene: Scene, R: float, depth: float) -> str:
             f"{worst:.3g}, contact radius {a / t:.3g} film thicknesses)")
 
 
-def _target_step(scene: Scene, kind: ModelKind, V, R, tolerance: float):
-    """Rule 3: the films, or the substrate alone when skipping them changes the maxima by
-    at most ``tolerance``; (the step or None without films, the target, the maxima that
-    decide rule 4)."""
-    m = scene.impactor.mass
-    full = kind.maxima(scene.model(kind=kind), V, R, m)
-    if not np.any(np.isfinite(full["delta_max"])):
+def films_change(full: dict, bare: dict) -> float:
+    """The largest relative change of the maxima (approach and force) over the checked
+    points when the films are left out: ``bare`` (the substrate alone) against ``full``; NaN
+    where no point has both in the model's range."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = np.r_[np.asarray(bare["delta_max"]) / np.asarray(full["delta_max"]),
+                       np.asarray(bare["force_max"]) / np.asarray(full["force_max"])] - 1.0
+    finite = np.abs(ratios[np.isfinite(ratios)])
+    return float(finite.max()) if finite.size else math.nan
+
+
+def _check_range(maxima: dict, kind: ModelKind, V, R, m: float) -> None:
+    if not np.any(np.isfinite(maxima["delta_max"])):
         raise InputError(f"impactor: at V = {V[0]:g} m/s, R = {R[0]:g} m, m = {m:g} kg (and "
                          "the map's corners) no point is inside the model's range "
                          f"({kind.range_limit}); no contact model holds there")
-    if not scene.stack.layers:
-        return None, "substrate", full
-    bare = kind.maxima(scene.substrate_model(kind=kind), V, R, m)
-    change = float(np.nanmax(np.abs(np.r_[bare["delta_max"] / full["delta_max"],
-                                           bare["force_max"] / full["force_max"]] - 1.0)))
+
+
+def _films(scene: Scene) -> str:
+    return "the measured profile" if scene.profile is not None else "the films"
+
+
+def _change_text(change: float, tolerance: float, what: str) -> str:
+    """How far ``what`` (the films) moves the maxima, against the tolerance."""
+    if not math.isfinite(change):
+        return (f"the change that {what} make is not measured: the substrate alone or the "
+                "layered target is outside the model's range at every checked point")
+    side = "within" if change <= tolerance else "above"
+    verb = "change" if what == "the films" else "changes"
+    return f"{what} {verb} the maxima by {change:.2%} at most, {side} the tolerance " \
+        f"{percent(tolerance)}"
+
+
+def _substrate_step(scene: Scene, change: float, tolerance: float) -> Step:
+    """Rule 3's step when the substrate alone is modelled (by the rule or by model.target)."""
+    what = _films(scene)
+    if scene.model_target == "substrate":
+        why = (f'forced by model.target = "substrate": {_change_text(change, tolerance, what)}'
+               + (" (rule 3 would keep them)" if change > tolerance else ""))
+    else:
+        why = _change_text(change, tolerance, what) + (
+            " (they change nothing)" if change == 0 else "") + " (rule 3)"
+    error = (f"{change:.2%} from {what} left out" if math.isfinite(change) else
+             f"{what} left out: their effect is not measured (outside the model's range)")
+    return Step("target", f"substrate alone ({scene.stack.substrate.name})", why, error, 0.0)
+
+
+def _layered_step(scene: Scene, full: dict, R, change: float, tolerance: float) -> Step:
+    """Rule 3's step when the films (or the measured profile) are modelled."""
     depth = float(np.nanmax(full["delta_max"]))
-    if change <= tolerance:
-        return (Step("target", f"substrate alone ({scene.stack.substrate.name})",
-                     f"skipping the films changes the maxima by {change:.2%} at most, within "
-                     f"the tolerance {tolerance:.0%} (rule 3)",
-                     f"{change:.2%} from the films left out", 0.0), "substrate", bare)
-    deepest = float(R[int(np.nanargmax(full["delta_max"]))])
-    return (Step("target", "layered profile (Gao weighting, docs/physics.md s. 7)",
-                 f"the films change the maxima by up to {change:.1%} (deepest approach "
-                 f"{depth:.3g} m against {sum(l.thickness for l in scene.stack.layers):.3g} m "
-                 "of film), above the tolerance (rule 3)", gao_error(scene, deepest, depth),
-                 0.0), "layered", full)
+    what = _films(scene)
+    if scene.profile is not None:
+        model = "measured depth profile (target.profile, docs/physics.md s. 7)"
+        error = "the profile's own: its piecewise-linear fit of the measured E_r and H"
+        extent = f"deepest approach {depth:.3g} m"
+    else:
+        model = "layered profile (Gao weighting, docs/physics.md s. 7)"
+        error = gao_error(scene, float(R[int(np.nanargmax(full["delta_max"]))]), depth)
+        extent = (f"deepest approach {depth:.3g} m against "
+                  f"{sum(l.thickness for l in scene.stack.layers):.3g} m of film")
+    if scene.model_target == "layered":
+        why = (f'forced by model.target = "layered": {_change_text(change, tolerance, what)}'
+               + (" (rule 3 would leave them out)" if change <= tolerance else "")
+               + f"; {extent}")
+    else:
+        why = f"{_change_text(change, tolerance, what)} ({extent}) (rule 3)"
+    return Step("target", model, why, error, 0.0)
+
+
+def _target_step(scene: Scene, kind: ModelKind, V, R, tolerance: float):
+    """Rule 3: the films, or the substrate alone when skipping them changes the maxima by
+    at most ``tolerance`` (0: whenever they change anything), unless ``model.target`` forces
+    either; (the step or None without films, the target, the maxima that decide rule 4,
+    the films' measured change or None)."""
+    m, forced = scene.impactor.mass, scene.model_target
+    full = kind.maxima(scene.model(kind=kind), V, R, m)
+    if not scene.layered:
+        if forced == "layered":
+            raise InputError('model.target = "layered" keeps the films, but the target has '
+                             "none (no target.layers, no target.profile)")
+        _check_range(full, kind, V, R, m)
+        return None, "substrate", full, None
+    bare = kind.maxima(scene.substrate_model(kind=kind), V, R, m)
+    _check_range(bare if forced == "substrate" else full, kind, V, R, m)
+    change = films_change(full, bare)
+    if forced == "substrate" or (forced == "auto" and change <= tolerance):
+        return _substrate_step(scene, change, tolerance), "substrate", bare, change
+    return _layered_step(scene, full, R, change, tolerance), "layered", full, change
 
 
 def _law_step(scene: Scene, kind: ModelKind, check: dict, V) -> tuple[Step, str]:
@@ -271,8 +356,13 @@ def _law_step(scene: Scene, kind: ModelKind, check: dict, V) -> tuple[Step, str]
                 "exact for an elastic contact", 0.0), "hertz"
 
 
+#: values per axis of the sub-grid on which a map's cost is timed (a vectorised map's cost
+#: per point falls with its size, so this errs on the dear side)
+MAP_SAMPLE = 4
+
+
 def _path_steps(scene: Scene, kind: ModelKind, run_model, outputs, V, R) -> list[Step]:
-    """Rule 5, with the measured cost of one history and of one maxima point."""
+    """Rule 5, with the measured cost of one history, and of one point or of the map."""
     imp, steps = scene.impactor, []
     options = scene.kind_options(kind)
     if "history" in outputs:
@@ -281,15 +371,17 @@ def _path_steps(scene: Scene, kind: ModelKind, run_model, outputs, V, R) -> list
         steps.append(Step("impact", "time integration (histories)",
                           "time histories are asked for (rule 5)", f"rtol {scene.rtol:g}",
                           one))
-    count = 1
-    if "map" in outputs:
+    if "map" in outputs:        # the kind's own map, timed on a corner sub-grid and scaled
         v_axis, r_axis = scene.map.axes()
-        count = v_axis.size * r_axis.size
-    _, one = _timed(lambda: kind.maxima(run_model, V[:1], R[:1], imp.mass))
+        v_sub, r_sub = v_axis[:MAP_SAMPLE], r_axis[:MAP_SAMPLE]
+        _, sample = _timed(lambda: kind.impact_map(run_model, v_sub, r_sub, imp.mass, options))
+        cost = sample * v_axis.size * r_axis.size / (v_sub.size * r_sub.size)
+    else:
+        _, cost = _timed(lambda: kind.maxima(run_model, V[:1], R[:1], imp.mass))
     steps.append(Step("impact", ("impact map " if "map" in outputs else "") +
                       "fast maxima (energy quadrature)",
                       "maxima, restitution and residual depth need no time history (rule 5)",
-                      "about 1e-11 relative (12-node quadrature)", one * count))
+                      "about 1e-11 relative (12-node quadrature)", cost))
     return steps
 
 
@@ -307,14 +399,17 @@ def _oblique_step(scene: Scene, kind: ModelKind, run_model, angle, friction) -> 
 
 def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
                 angle: float = 0.0) -> Plan:
-    """Rules 2-5 on a complete scene, for the model kind of its impactor's shape."""
+    """Rules 2-5 on a complete scene, for the model kind of its impactor's shape. The
+    decisions record ``model_target`` (what the scene asked: "auto" is rule 3) beside the
+    ``target`` chosen, and ``films_change``: how far the films move the maxima (None without
+    films, or where it cannot be measured)."""
     _check_direction(outputs, friction, angle)
     steps = [_direction_step(outputs, friction, angle)]
     oblique = _oblique(outputs, friction, angle)
     # the normal kind of the shape decides rules 3-5; the oblique one adds the tangential step
     kind, normal = kind_for(scene.impactor.shape, oblique), kind_for(scene.impactor.shape)
     V, R = _points(scene, outputs)
-    target_step, target, check = _target_step(scene, normal, V, R, tolerance)
+    target_step, target, check, change = _target_step(scene, normal, V, R, tolerance)
     steps += [target_step] if target_step else []
     law_step, law = _law_step(scene, normal, check, V)
     steps.append(law_step)
@@ -322,18 +417,51 @@ def plan_impact(scene: Scene, outputs, tolerance: float, friction: float = 0.0,
     steps += _path_steps(scene, normal, run_model, outputs, V, R)
     if oblique:
         steps.append(_oblique_step(scene, kind, run_model, angle, friction))
-    decisions = {"kind": kind.name, "target": target, "law": law, "path":
-                 "time" if "history" in outputs else "fast", "map": "map" in outputs,
-                 "history": "history" in outputs}
+    decisions = {"kind": kind.name, "target": target, "model_target": scene.model_target,
+                 "films_change": change if change is not None and math.isfinite(change)
+                 else None,
+                 "law": law, "path": "time" if "history" in outputs else "fast",
+                 "map": "map" in outputs, "history": "history" in outputs}
     if oblique:
         decisions.update(direction="oblique", friction=friction, angle=angle)
     return Plan(tuple(steps), decisions)
 
 
+def _pending_steps(pipeline: PipelineScene) -> tuple[list[Step], dict]:
+    """The impact steps of a plan whose calibrations have not run: rules 2-5 wait for them,
+    but a target that ``model.target`` forces is known already."""
+    forced, steps, decisions = pipeline.model_target, [], {}
+    if forced != "auto":
+        model = ("substrate alone" if forced == "substrate" else
+                 "the films kept (layered target)")
+        steps.append(Step("target", model, f'forced by model.target = "{forced}"',
+                          "the films' effect is measured after calibration", 0.0))
+        decisions = {"target": forced, "model_target": forced}
+    steps.append(Step("impact", "chosen after calibration",
+                      "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
+    return steps, decisions
+
+
+def _uncertainty_step(pipeline: PipelineScene, scene: Scene, target: str) -> Step | None:
+    """Where the modelled target holds no calibrated layer (the substrate alone, or a measured
+    profile in the layers' place), the calibrations' standard deviations cannot reach the
+    impact results: they are not computed (NaN, not 0)."""
+    if not pipeline.calibrations or (target == "layered" and scene.profile is None):
+        return None
+    names = ", ".join(dict.fromkeys(s.name for s in pipeline.calibrations))
+    where = ("the plan models the substrate alone" if target == "substrate" else
+             "the measured target.profile stands for the layers")
+    return Step("uncertainty", "not computed: the results' standard deviations are NaN",
+                f"the calibrated layer(s) {names} are not in the modelled target ({where}), "
+                "so their standard deviations cannot reach the impact results",
+                "the error of the target step stands instead", 0.0)
+
+
 def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None,
                h_star: dict[int, float] | None = None) -> Plan:
     """The whole plan; impact steps wait for the calibrations unless all layers are known.
-    The calibration steps stay in the plan once done, so that the stored plan is complete."""
+    The calibration steps stay in the plan once done, so that the stored plan is complete.
+    ``decisions["std"]``, where set, says why the results carry no standard deviation."""
     steps = []
     for sources in layer_sources(pipeline).values():
         steps += [_calibration_step(s, pipeline.base, len(sources) > 1, pipeline.tolerance)
@@ -343,13 +471,18 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
     if missing:
         check_request(pipeline)
-        steps.append(Step("impact", "chosen after calibration",
-                          "rules 2-5 need every layer's E and sigma_y", "-", math.nan))
-        return Plan(tuple(steps))
+        pending, decisions = _pending_steps(pipeline)
+        return Plan(tuple(steps + pending), decisions)
     scene = pipeline.completed(calibrated or {}, h_star)
     impact = plan_impact(scene, pipeline.outputs, pipeline.tolerance, pipeline.friction,
                          pipeline.angle)
-    return Plan(tuple(steps) + impact.steps, impact.decisions)
+    steps += impact.steps
+    decisions = dict(impact.decisions)
+    uncertainty = _uncertainty_step(pipeline, scene, decisions["target"])
+    if uncertainty is not None:
+        steps.append(uncertainty)
+        decisions["std"] = f"not computed: {uncertainty.reason}"
+    return Plan(tuple(steps), decisions)
 
 
 def chosen_model(scene: Scene, target: str, law: str, kind: ModelKind | None = None):
@@ -358,3 +491,29 @@ def chosen_model(scene: Scene, target: str, law: str, kind: ModelKind | None = N
     kind = kind or scene.kind
     chosen = contact_law("hertz") if law == "hertz" else scene.law
     return replace(scene, law=chosen).model(bare_substrate=target == "substrate", kind=kind)
+
+
+#: the swept scene keys a plan's model does not read (`left_out`), by what leaves them out
+_FILM_KEYS = ("target.layers", "target.profile")
+_FRICTION_KEYS = ("contact.friction",)
+
+
+def left_out(key: str, decisions: dict, angle: float) -> tuple[int, str, str] | None:
+    """(the rule, why, how to keep it) when the plan of ``decisions`` (for an impactor at
+    ``angle`` degrees) models nothing the dotted scene ``key`` sets, so that its value cannot
+    change the impact results; None when it may. Two cases are known: a key of the films (a
+    layer or the measured profile) where the plan models the substrate alone (rule 3, or
+    model.target), and the friction of a normal approach (rule 2: no tangential force)."""
+    def under(prefixes):
+        return any(key == p or key.startswith(p + ".") for p in prefixes)
+    if under(_FILM_KEYS) and decisions.get("target") == "substrate":
+        if decisions.get("model_target") == "substrate":
+            return (3, 'the scene forces model.target = "substrate"',
+                    'set model.target = "layered" (or "auto")')
+        return (3, "rule 3 models the substrate alone: the films change the maxima by no more "
+                "than the tolerance", 'set model.target = "layered", or an [outputs] '
+                "tolerance below the films' change")
+    if under(_FRICTION_KEYS) and angle == 0:
+        return (2, "a normal approach has no tangential force, whatever the friction (rule 2)",
+                "give impactor.angle above 0")
+    return None

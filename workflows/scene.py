@@ -153,6 +153,8 @@ class Scene:
     #: the values of the other [model] and [contact] keys the impactor's kind declares (its
     #: law, unloading and friction have the fields above)
     options: dict = field(default_factory=dict)
+    #: ``model.target``: "auto" (the planner's rule 3 chooses), "layered" or "substrate"
+    model_target: str = "auto"
 
     @property
     def layered(self) -> bool:
@@ -456,7 +458,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
                              "measured target.profile, which holds its depth dependence")
     return Scene(impactor=impactor, stack=stack, law=law,
                  unloading=options.get("unloading", "auto"), path=general["path"],
-                 rtol=general["rtol"], profile=profile,
+                 rtol=general["rtol"], model_target=general["target"], profile=profile,
                  h_star=tuple(h_star) if any(h_star) else (),
                  map=read_map_spec(data, impactor.mass, impactor),
                  friction=float(options.get("friction", 0.0)),

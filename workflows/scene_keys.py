@@ -16,6 +16,9 @@ from filmscale.continuum.contact.kinds import all_keys, shapes
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, THICKNESS_MAX, VELOCITY_RANGE
 from filmscale.core.keys import REQUIRED, Key
 
+#: the values of ``model.target``: rule 3 chooses, or the films are kept, or left out
+TARGETS = ("auto", "layered", "substrate")
+
 _NU = dict(low=-1.0, high=0.5, low_open=True, high_open=True)
 
 
@@ -80,6 +83,12 @@ GENERAL_KEYS: dict[str, tuple[Key, ...]] = {
         Key("path", default="fast", choices=("fast", "time"), doc="`filmscale impact`: "
             "energy quadrature, or time integration (also implied by `--history`/`--plot`)"),
         Key("rtol", "1", 1e-8, 1e-13, 1e-2, doc="relative tolerance of time integration"),
+        Key("target", default="auto", choices=TARGETS, doc="the target the planner models "
+            "(`filmscale plan`, `run`, `sweep`; docs/pipeline.md, rule 3): `auto` keeps the "
+            "films (or `target.profile`) where leaving them out changes the maxima by more "
+            "than `[outputs] tolerance`; `layered` keeps them whatever they change; "
+            "`substrate` models the substrate alone. `filmscale impact` and `impact-map` "
+            "model the whole target whatever it says"),
     ),
     "contact": (),
     "map": (

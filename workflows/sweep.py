@@ -12,12 +12,16 @@ A sweep file (TOML)::
 
 Keys are dotted paths into the scene; an array of tables is indexed by number (layer 0 is the
 top layer). Every scene is checked like a scene file before anything runs.
+
+A swept key that changes nothing the plans keep is reported (`unused_keys`): a layer's
+thickness swept while every plan models the substrate alone gives identical results.
 """
 
 from __future__ import annotations
 
 import copy
 import itertools
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -101,6 +105,43 @@ def load_sweep(path) -> tuple[str, list[SweepScene]]:
     return parse_sweep(read_text(path, "sweep"), str(path), path.parent)
 
 
+def unused_keys(scenes: list[SweepScene], decisions: list[dict]) -> list[dict]:
+    """The swept keys that change nothing the plans keep. ``decisions``: each scene's plan
+    decisions ({} while its calibrations have not run). The rule: a key is reported when two
+    scenes whose overrides differ in that key's value and in nothing else both have plans
+    that leave the key out (`plan.left_out`: a film's key where the plan models the
+    substrate alone, the friction of a normal approach); their impact results are then
+    identical. Each entry: ``key``, ``cases`` (the scenes of such pairs), ``why``,
+    ``keep`` (how to make the key count) and ``text`` (one line)."""
+    from filmscale.workflows.plan import left_out
+    found = []
+    for key in dict.fromkeys(k for s in scenes for k in s.overrides):
+        groups: dict[str, list] = {}
+        for s, d in zip(scenes, decisions):
+            if key in s.overrides and left_out(key, d or {}, s.scene.angle) is not None:
+                rest = {k: v for k, v in s.overrides.items() if k != key}
+                groups.setdefault(json.dumps(rest, sort_keys=True, default=str),
+                                  []).append((s, d))
+        pairs = {s.name: d for group in groups.values()
+                 if len({json.dumps(s.overrides[key], default=str) for s, _ in group}) > 1
+                 for s, d in group}
+        if pairs:
+            names = [s.name for s in scenes if s.name in pairs]
+            first = next(s for s in scenes if s.name == names[0])
+            rule, why, keep = left_out(key, pairs[names[0]], first.scene.angle)
+            changes = [d["films_change"] for d in pairs.values()
+                       if d.get("films_change") is not None]
+            if rule == 3 and changes:
+                why += f" ({max(changes):.2%} at most in these scenes)"
+            shown = ", ".join(names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6
+                                            else "")
+            found.append({"key": key, "cases": names, "why": why, "keep": keep, "text": (
+                f"{key} changes nothing the plan keeps in {len(names)} of {len(scenes)} "
+                f"scene(s) ({shown}): {why}, so its value does not reach their impact results "
+                f"(those that differ in it alone are identical); to keep it, {keep}")})
+    return found
+
+
 def _run_one(job) -> dict:
     """Run one scene of a sweep (in a worker process): its result path and units, or the
     one-line error that stopped it."""
@@ -111,7 +152,8 @@ def _run_one(job) -> dict:
         result = run_scene(parse_pipeline(text, source, Path(base)), Path(store), Path(out))
     except FilmscaleError as err:
         return {"error": str(err)}
-    return {"result": str(result.path), "units": result.units}
+    return {"result": str(result.path), "units": result.units,
+            "decisions": result.plan.decisions}
 
 
 def default_jobs(scenes: list[SweepScene]) -> int:
@@ -129,7 +171,9 @@ def run_sweep(name: str, scenes: list[SweepScene], store: Path, out_dir: Path,
     each result as ``out_dir/<scene>.h5``; the index ``out_dir/<name>.json`` (each scene's
     overrides, result or error, units) is rewritten as each scene ends, so that a stopped
     sweep keeps what finished (``index_name`` names it otherwise: the tasks of a SLURM array,
-    one scene each, write one index each). Returns the index path and its entries."""
+    one scene each, write one index each). When every scene has ended, the index gets
+    ``warnings``: the swept keys that change nothing the finished scenes' plans keep
+    (`unused_keys`), each also said in one line. Returns the index path and its entries."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     from filmscale.core.files import write_json
@@ -154,4 +198,8 @@ def run_sweep(name: str, scenes: list[SweepScene], store: Path, out_dir: Path,
             futures = {pool.submit(_run_one, job): i for i, job in enumerate(work)}
             for future in as_completed(futures):
                 record(futures[future], future.result())
+    warnings = unused_keys(scenes, [e.get("decisions", {}) for e in entries])
+    write_json(index, {"sweep": name, "scenes": entries, "warnings": warnings})
+    for w in warnings:
+        say(f"warning: {w['text']}")
     return index, entries

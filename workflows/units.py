@@ -280,10 +280,12 @@ def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=(), correl
     parameter raised by its standard deviation each) their standard deviation, linearised:
     with d_i = result(p + std_i) - result(p) and rho the parameters' correlation matrix
     (identity when None), std^2 = sum_ij rho_ij d_i d_j. Written as ``point_std/*`` and
-    ``map_std/*`` beside the results."""
+    ``map_std/*`` beside the results. Not where the plan says the calibrations cannot reach
+    the modelled target (``decisions["std"]``: a calibrated layer left out), where each d_i
+    would be 0 by construction: then nothing is written and the std reads NaN, not 0."""
     own_folder(path)        # a real folder of the store, never written through a link
     arrays = _impact_arrays(scene, plan, bool(plan.decisions.get("history")))
-    if perturbed:
+    if perturbed and not plan.decisions.get("std"):
         rho = np.eye(len(perturbed)) if correlation is None else np.asarray(correlation)
         keys = [k for k in arrays if k.split("/")[0] in ("point", "map")
                 and k.split("/")[1] in UNCERTAIN]

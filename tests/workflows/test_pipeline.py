@@ -81,9 +81,9 @@ def test_histories_take_the_time_path_and_maps_the_fast_path():
 
 
 @pytest.mark.parametrize("extra, want, direction", [
-    ("friction = 0.5", '["maxima"]', "normal impact"),
+    ("[contact]\nfriction = 0.5", '["maxima"]', "normal impact"),
     ("angle = 30.0", '["maxima"]', "normal impact"),
-    ("angle = 30.0\nfriction = 0.2", '["maxima"]', "oblique impact"),
+    ("angle = 30.0\n[contact]\nfriction = 0.2", '["maxima"]', "oblique impact"),
     ("angle = 30.0", '["maxima", "tangential"]', "oblique impact")])
 def test_rule_2_chooses_normal_or_oblique_by_friction_and_angle(extra, want, direction):
     plan = plan_scene(scene(impactor_extra=extra, want=want))

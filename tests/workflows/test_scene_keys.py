@@ -51,6 +51,7 @@ def test_the_documented_defaults_are_what_a_scene_holds():
     assert scene.path == "fast" and scene.rtol == 1e-8 and scene.friction == 0.0
     assert scene.impactor.angle == 0.0 and scene.impactor.inertia_factor == 0.4
     assert scene.map.spacing == "log"
+    assert scene.model_target == "auto"             # rule 3 chooses (docs/pipeline.md)
 
 
 def test_a_key_of_another_shape_names_the_shapes_that_read_it():

@@ -66,7 +66,10 @@ def test_a_sweep_runs_its_scenes_on_one_store_and_each_equals_its_lone_run(tmp_p
                                                                {"impactor.velocity": 2.0}]
     index, entries = run_sweep(name, scenes, tmp_path / "store", tmp_path / "out", jobs=2)
     assert [e["state"] for e in entries] == ["done", "done"]
-    assert json.loads(index.read_text())["scenes"][1]["overrides"] == {"impactor.velocity": 2.0}
+    written = json.loads(index.read_text())
+    assert written["scenes"][1]["overrides"] == {"impactor.velocity": 2.0}
+    assert written["warnings"] == []            # the velocity reaches every plan's model
+    assert written["scenes"][1]["decisions"]["target"] == "layered"
     calibrations = [u for e in entries for u, how in e["units"].items()
                     if u.startswith("calibration-") and how == "ran"]
     assert len(calibrations) == 1

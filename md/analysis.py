@@ -59,7 +59,10 @@ class IndentAnalysis:
         d["op"] = self.op.to_dict() if self.op is not None else None
         return d
 
-    def summary(self) -> str:
+    def summary(self, oliver_pharr: str | None = None) -> str:
+        """The figures in words; ``oliver_pharr``: the Oliver-Pharr lines to print instead
+        of this analysis' own (`filmscale md indent` prints what `indent analyze` gives on
+        the record, with its flags)."""
         nN, nm, GPa = 1e9, 1e9, 1e-9
         lines = [f"P_max {self.P_max * nN:.2f} nN at h_max {self.h_max * nm:.3f} nm; "
                  f"residual depth {self.residual_depth * nm:.3f} nm",
@@ -74,7 +77,9 @@ class IndentAnalysis:
                          f"{self.popin_shear_stress * GPa:.2f} GPa")
         else:
             lines.append("no pop-in")
-        if self.op is not None and self.op.ok:
+        if oliver_pharr is not None:
+            lines.append(oliver_pharr)
+        elif self.op is not None and self.op.ok:
             lines.append(f"Oliver-Pharr: E_r {self.op.E_r * GPa:.1f} GPa, H "
                          f"{self.op.H * GPa:.2f} GPa, A_c {self.op.A_c * 1e18:.2f} nm^2")
         if math.isfinite(self.contact_area_md):

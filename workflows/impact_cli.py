@@ -28,7 +28,8 @@ from .quantity_args import add_quantity_argument, range_arg
 #: the history table's columns; the contact-size column is the kind's (`ModelKind.size`)
 HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radius [m], "
                   "mean_pressure [Pa], phase, branch")
-#: a map this large shows its progress (oblique and point-wise maps always do)
+#: a map this large shows its progress (oblique maps, and kinds whose model takes one point
+#: at a time, always do)
 PROGRESS_POINTS = 20_000
 
 
@@ -173,6 +174,20 @@ def _map_rows(args, scene):
     return velocity, scene.impactor.radius, angle.size, angle
 
 
+def _map_mass(args, scene, kind, rows) -> float:
+    """The impactor mass of every map point: --mass, range-checked as `impact --mass` and
+    not lighter than the kind's body at the map's largest radius, else the scene's."""
+    if args.mass is None:
+        return scene.impactor.mass
+    mass = check_real("--mass", args.mass, low=MASS_RANGE[0], high=MASS_RANGE[1],
+                      low_open=True, unit="kg")
+    radius = ("impactor.radius" if args.angle is not None
+              else "--radius maximum" if args.radius else "map.radius maximum")
+    kind.check_body(float(np.max(rows)), mass, scene.impactor.options,
+                    {"radius": radius, "mass": "--mass", "length": "impactor.length"})
+    return mass
+
+
 def _map_outputs(args, scene, velocity, n_rows: int) -> None:
     """The map's outputs: at least one, plottable, and none overwriting an input."""
     if not (args.out or args.plot):
@@ -189,24 +204,27 @@ def _map_outputs(args, scene, velocity, n_rows: int) -> None:
                    ("--plot", args.plot, image_kind(args.plot))], args.force)
 
 
-def _compute_maps(scene, kind, velocity, rows, n_rows, options) -> dict:
+def _compute_maps(scene, kind, velocity, rows, n_rows, options, mass) -> dict:
     """The kind's map of the layered target (when the scene has films) and of the bare
-    substrate, with progress on stderr for the large or slow ones."""
+    substrate, at impactor mass ``mass``, with progress on stderr for the large or slow ones
+    (`progress.progress_bar`: a bar on a terminal, plain lines in a log)."""
+    from .progress import count_callback, progress_bar
     models = {"layered": scene.model(kind=kind)} if scene.layered else {}
     models["homogeneous"] = scene.substrate_model(kind=kind)
-    # an oblique point may take a time integration, a point-wise map tens of ms a point
+    # an oblique point may take a time integration; a kind whose model takes one point at a
+    # time may take ms a point
     large = (kind.oblique or not kind.vectorised
              or velocity.size * n_rows > PROGRESS_POINTS)
     maps = {}
     for key, model in models.items():
         label = map_label(scene, key)
-
-        def progress(done, total, label=label):
-            print(f"\r{label}: {done}/{total} impacts", end="", file=sys.stderr, flush=True)
-        maps[key] = kind.impact_map(model, velocity, rows, scene.impactor.mass, options,
-                                    progress if large else None)
-        print(f"{chr(13) if large else ''}{label}: {velocity.size} x {n_rows} impacts",
-              file=sys.stderr)
+        bar = progress_bar(velocity.size * n_rows, "impact", label, enabled=large)
+        try:
+            maps[key] = kind.impact_map(model, velocity, rows, mass, options,
+                                        count_callback(bar) if large else None)
+        finally:
+            bar.close()
+        print(f"{label}: {velocity.size} x {n_rows} impacts", file=sys.stderr)
     return {"maps": maps, "models": models}
 
 
@@ -215,12 +233,12 @@ def map_label(scene, key: str) -> str:
     return "layered target" if key == "layered" else f"{scene.stack.substrate.name} only"
 
 
-def _summary(maps: dict, kind, out, plot, elapsed: float, points: int) -> dict:
-    """The --json summary: per target, the points out of range and yielded, the largest
-    value of each field the map shows, the smallest restitution (and, for an oblique kind,
-    the range of the tangential restitution)."""
+def _summary(maps: dict, kind, out, plot, elapsed: float, points: int, mass: float) -> dict:
+    """The --json summary: the impactor mass; per target, the points out of range and
+    yielded, the largest value of each field the map shows, the smallest restitution (and,
+    for an oblique kind, the range of the tangential restitution)."""
     summary = {"out": str(out) if out else None, "plot": plot, "seconds": round(elapsed, 3),
-               "points": points}
+               "points": points, "mass": mass}
     for key, mp in maps.items():
         s = {"out_of_range": int(mp.out_of_range.sum()), "yielded": int(mp.yielded.sum())}
         s.update({f: _extreme(np.max, mp.field(f)) for f in mp.fields if f != "restitution"})
@@ -235,8 +253,8 @@ def _summary(maps: dict, kind, out, plot, elapsed: float, points: int) -> dict:
 
 def _print_summary(scene, summary: dict, maps: dict, elapsed: float) -> None:
     written = [str(f) for f in (summary["out"], summary["plot"]) if f]
-    print(f"wrote {' and '.join(written)}: {summary['points']} points per target in "
-          f"{elapsed:.2f} s")
+    print(f"wrote {' and '.join(written)}: {summary['points']} points per target "
+          f"(m = {eng(summary['mass'], 'kg')}) in {elapsed:.2f} s")
     for key, mp in maps.items():
         s = summary[key]
         largest = ", ".join(f"largest {name} {eng(s[field], unit)}" for field, name, unit in (
@@ -255,10 +273,11 @@ def cmd_impact_map(args) -> int:
     scene = load_scene(args.scene)
     velocity, rows, n_rows, angle = _map_rows(args, scene)
     kind = _oblique_kind(scene, angle)
+    mass = _map_mass(args, scene, kind, rows)
     _map_outputs(args, scene, velocity, n_rows)
     options = scene.kind_options(kind) | ({"angle": angle} if kind.oblique else {})
     start = time.perf_counter()
-    done = _compute_maps(scene, kind, velocity, rows, n_rows, options)
+    done = _compute_maps(scene, kind, velocity, rows, n_rows, options, mass)
     maps = done["maps"]
     elapsed = time.perf_counter() - start
     described = {k: m.describe() | ({"friction": options["friction"],
@@ -274,8 +293,9 @@ def cmd_impact_map(args) -> int:
         from .plots import plot_impact_maps
         what = kind.label(options) if kind.label else kind.name
         plot_impact_maps({map_label(scene, k): v for k, v in maps.items()}, args.plot,
-                         title=scene.title or f"{what}, m = {scene.impactor.mass:g} kg")
-    summary = _summary(maps, kind, out, args.plot, elapsed, int(velocity.size * n_rows))
+                         title=scene.title or f"{what}, m = {eng(mass, 'kg')}")
+    summary = _summary(maps, kind, out, args.plot, elapsed, int(velocity.size * n_rows),
+                       mass)
     if args.json:
         print(dumps(summary))
     else:
@@ -287,9 +307,11 @@ def cmd_impact_map(args) -> int:
 
 def add_arguments(sub) -> None:
     """The `impact` and `impact-map` sub-commands."""
-    p = sub.add_parser("impact", help="one normal impact of the scene's sphere or cylinder",
-                       description="Maxima of one normal impact (fast energy quadrature), or "
-                                   "its time history with --history/--plot.")
+    p = sub.add_parser("impact", help="one impact of the scene's impactor (sphere or "
+                                      "cylinder; oblique with --angle)",
+                       description="Maxima of one impact (fast energy quadrature), or its time "
+                                   "history with --history/--plot; a sphere's impact is "
+                                   "oblique with --angle or the scene's impactor.angle.")
     p.add_argument("scene", help="scene file (TOML)")
     add_quantity_argument(p, "--velocity", "m/s",
                           help="normal impact velocity V: m/s, or with units (0.5 m/s)")
@@ -320,9 +342,12 @@ def add_arguments(sub) -> None:
                                "scene's [map])")
     rows.add_argument("--angle", type=_angle_range, metavar="MIN:MAX:N",
                       help="incidence axis in degrees (linear) at the scene's radius instead: "
-                           "oblique impacts with the scene's [contact] friction, about 0.5 s "
+                           "oblique impacts with the scene's [contact] friction, about 0.1-0.2 s "
                            "per point that neither slides throughout nor lacks friction")
     p.add_argument("--spacing", choices=("log", "linear"), help="axis spacing (default log)")
+    add_quantity_argument(p, "--mass", "kg",
+                          help="impacting mass m of every map point: kg, or with units (1.6 "
+                               "mg); default: the scene's impactor.mass")
     p.add_argument("--out", metavar="MAP.h5", help="HDF5 result file (--out, --plot or both)")
     p.add_argument("--plot", metavar="MAP.png", help="contour plots")
     p.add_argument("--json", action="store_true", help="print a JSON summary")

@@ -2,7 +2,8 @@
 
 A folder of thousands of curves is the normal case: files are analysed in chunks on worker
 processes, each file's problems become flags or an "unreadable" record rather than stopping
-the batch, and a progress bar runs on stderr when it is a terminal.
+the batch, and the progress counts curves on stderr (`progress.progress_bar`: a bar on a
+terminal, plain lines in a log).
 """
 
 from __future__ import annotations
@@ -134,22 +135,67 @@ def _safe_name(name: str) -> str:
     return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in name)
 
 
-def analyze_file(path, options: AnalysisOptions) -> list[dict]:
+def analyze_file(path, options: AnalysisOptions, progress=None, plot_file=None) -> list[dict]:
     """Records (plain dicts, SI) of every curve in one file: Oliver-Pharr, or CSM with
-    ``options.csm``."""
+    ``options.csm``. ``progress`` (`CurveProgress`) hears how many curves the file holds and
+    each one analysed; ``plot_file`` also draws each curve's analysis there (for a file of one
+    curve: a run's record)."""
     path = Path(path)
     try:
         curves = read_curves(path, reader_options(options.read_format, options.columns,
                                                   options.read_options))
     except InputError as err:
+        curves = None
+        message = str(err)
+    if progress is not None:
+        progress.read(1 if curves is None else len(curves))
+    if curves is None:
+        if progress is not None:
+            progress.done()
         return [{"name": path.stem, "file": str(path), "status": UNREADABLE,
-                 "message": str(err), "flags": [UNREADABLE]}]
+                 "message": message, "flags": [UNREADABLE]}]
     records = []
     for name, curve in curves.items():
         label = f"{path.stem}:{name}" if path.suffix.lower() in HDF5_SUFFIXES \
             or name != path.stem else name
-        records += analyze_curve(curve, {"name": label, "file": str(path)}, options)
+        records += analyze_curve(curve, {"name": label, "file": str(path)}, options,
+                                 plot_file=plot_file)
+        if progress is not None:
+            progress.done()
     return records
+
+
+class CurveProgress:
+    """Progress per curve of a batch whose curves are known only file by file: the total is
+    the curves of the files read plus, for each file not read yet, their mean per file."""
+
+    def __init__(self, bar, n_files: int):
+        self.bar, self.n_files, self.files_read, self.curves = bar, n_files, 0, 0
+
+    def read(self, curves: int, files: int = 1) -> None:
+        """``files`` more files read, holding ``curves`` curves."""
+        from filmscale.workflows.progress import set_total
+        self.files_read += files
+        self.curves += curves
+        per_file = self.curves / self.files_read if self.curves else 1.0
+        set_total(self.bar, self.curves + math.ceil(per_file * (self.n_files
+                                                                 - self.files_read)))
+
+    def done(self, curves: int = 1) -> None:
+        self.bar.update(curves)
+
+
+class _Tally:
+    """The curves a worker process read (its `CurveProgress` is the parent's)."""
+
+    def __init__(self):
+        self.curves = 0
+
+    def read(self, curves: int, files: int = 1) -> None:
+        self.curves += curves
+
+    def done(self, curves: int = 1) -> None:
+        pass
 
 
 def _method_constants(options: AnalysisOptions, meta) -> tuple:
@@ -217,9 +263,10 @@ def _with_flags(record: dict, flags) -> dict:
     return {**record, "flags": codes, "flag_messages": messages}
 
 
-def analyze_curve(curve, record: dict, options: AnalysisOptions) -> list[dict]:
+def analyze_curve(curve, record: dict, options: AnalysisOptions, plot_file=None) -> list[dict]:
     """The records of one curve (one per cycle with ``options.cycles``); a curve that cannot be
-    analysed gives one record with status FAILED and the reason, and the batch goes on."""
+    analysed gives one record with status FAILED and the reason, and the batch goes on.
+    ``plot_file``: draw the (last) unloading's analysis there too."""
     try:
         tip = resolve_tip(options, curve.indenter, curve.meta)
         beta, nu, nu_source = _method_constants(options, curve.meta)
@@ -253,11 +300,10 @@ def analyze_curve(curve, record: dict, options: AnalysisOptions) -> list[dict]:
             if k < len(cycles):
                 named["vendor"] = {key: cycles[k].get(key) for key in ("E", "H", "S")}
         records.append(named)
-        if options.plot_dir:
+        for plot in ([Path(options.plot_dir) / f"{_safe_name(named['name'])}.png"]
+                     if options.plot_dir else []) + ([plot_file] if plot_file else []):
             from .plots import plot_curve_analysis
-            plot_curve_analysis(part, result,
-                                Path(options.plot_dir) / f"{_safe_name(named['name'])}.png",
-                                title=named["name"])
+            plot_curve_analysis(part, result, plot, title=named["name"])
     return records
 
 
@@ -285,12 +331,13 @@ def _csm_record(curve, tip, record, flags, options: AnalysisOptions, beta, nu) -
     return _with_flags(out, extra)
 
 
-def _analyze_chunk(args) -> list[dict]:
+def _analyze_chunk(args) -> tuple[list[dict], int]:
+    """The records of a chunk of files and the number of curves they held."""
     paths, options = args
-    out = []
+    tally, out = _Tally(), []
     for p in paths:
-        out.extend(analyze_file(p, options))
-    return out
+        out.extend(analyze_file(p, options, tally))
+    return out, tally.curves
 
 
 def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None,
@@ -299,7 +346,9 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
 
     ``workers`` processes (default: the CPUs this process may use, at most 8); one process
     for fewer than 64 files, where starting a pool costs more than it saves. ``paths`` is a
-    sequence of str or os.PathLike (one such path alone stands for itself).
+    sequence of str or os.PathLike (one such path alone stands for itself). ``progress``:
+    the curves analysed on stderr (`CurveProgress`), after each curve in one process, after
+    each chunk of files on a pool.
     """
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
@@ -313,18 +362,19 @@ def analyze_files(paths, options: AnalysisOptions, *, workers: int | None = None
     size = max(1, min(256, math.ceil(len(paths) / (workers * 8))))
     chunks = [(paths[i:i + size], options) for i in range(0, len(paths), size)]
     from filmscale.workflows.progress import progress_bar
-    bar = progress_bar(len(paths), "file", "reading and analysing", enabled=progress)
+    bar = progress_bar(len(paths), "curve", "analysing", enabled=progress)
+    counter = CurveProgress(bar, len(paths))
     records = []
     try:
         if workers == 1 or len(paths) < 64:
-            for chunk in chunks:
-                records += _analyze_chunk(chunk)
-                bar.update(len(chunk[0]))
+            for p in paths:
+                records += analyze_file(p, options, counter)
         else:
             with ProcessPoolExecutor(max_workers=workers) as pool:
-                for chunk, out in zip(chunks, pool.map(_analyze_chunk, chunks)):
+                for chunk, (out, curves) in zip(chunks, pool.map(_analyze_chunk, chunks)):
                     records += out
-                    bar.update(len(chunk[0]))
+                    counter.read(curves, len(chunk[0]))
+                    counter.done(curves)
     finally:
         bar.close()
     return records

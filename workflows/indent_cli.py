@@ -54,8 +54,8 @@ def _add_analyze_arguments(isub) -> None:
                                     "text) and of every curve file inside the folders given.")
     p.add_argument("files", nargs="+", metavar="FILES", help="curve files or folders")
     p.add_argument("--tip", help="berkovich, cube-corner, cone:THETA, sphere:R, "
-                                 "sphero-conical:R[:THETA], flat:A (lengths in m or with nm/um); "
-                                 "default: the indenter each curve names")
+                                 "sphero-conical:R[:THETA], flat:RADIUS (lengths in m or "
+                                 "with nm/um); default: the indenter each curve names")
     p.add_argument("--area-file", metavar="F.toml|file",
                    help="polynomial area function: a TOML file (C = [C0, C1, ...], "
                         "length_unit = 'nm'), or 'file' (also 'vendor'): the one each curve's "
@@ -393,36 +393,56 @@ def _csm_columns(records, with_E: bool) -> list:
     return columns
 
 
+def _with_std(r: dict, key: str) -> str:
+    """A value in GPa, ``+- std`` after it where the record has its standard deviation."""
+    value = _num(r.get(key), 1e9, ".4g")
+    std = r.get(key + "_std")
+    return value if std is None or not np.isfinite(std) else f"{value} +- {std / 1e9:.2g}"
+
+
 def _unloading_columns(with_E: bool) -> list:
     """(header, width, cell) of an Oliver-Pharr table: one unloading per row."""
-    columns = [("E_r [GPa]", 10, lambda r: _num(r["E_r"], 1e9, ".4g"))]
-    columns += [("E [GPa]", 9, lambda r: _num(r.get("E"), 1e9, ".4g"))] if with_E else []
-    return columns + [("H [GPa]", 9, lambda r: _num(r["H"], 1e9, ".4g")),
+    columns = [("E_r [GPa]", 10, lambda r: _with_std(r, "E_r"))]
+    columns += [("E [GPa]", 9, lambda r: _with_std(r, "E"))] if with_E else []
+    return columns + [("H [GPa]", 9, lambda r: _with_std(r, "H")),
                       ("h_c [nm]", 9, lambda r: _num(r["h_c"], 1e-9, ".4g")),
                       ("S [N/m]", 10, lambda r: _num(r["S"], 1.0, ".4g"))]
 
 
-def _table_row(r: dict, columns: list, width: int) -> str:
-    """One curve: its cells ("-" where not analysed), its flags and why it failed."""
-    cells = [cell(r) if _analysed(r) else "-" for _, _, cell in columns]
-    row = " ".join([f"{r['name']:<{width}}"] + [f"{c:>{w}}" for c, (_, w, _) in
-                                                zip(cells, columns)])
+#: the curve column widens to the longest name up to this; a longer name has a line of its
+#: own, its figures on the next line under an empty name cell
+NAME_WIDTH_MAX = 40
+
+
+def _table_row(r: dict, cells: list[str], widths: list[int], width: int) -> str:
+    """One curve: its cells ("-" where not analysed), its flags and why it failed; a name
+    longer than the name column on a line of its own above them."""
+    name = r["name"] if len(r["name"]) <= width else ""
+    row = " ".join([f"{name:<{width}}"] + [f"{c:>{w}}" for c, w in zip(cells, widths)])
     why = "" if _analysed(r) else f" ({r.get('message', '')})"
-    return f"{row}  {','.join(r.get('flags', []))}{why}"
+    row = f"{row}  {','.join(r.get('flags', []))}{why}"
+    return row if name or not r["name"] else f"{r['name']}\n{row}"
 
 
-def _table(records, csm: bool) -> list[str]:
-    """The results table: whole curve names; E where a Poisson ratio was known; the surface
-    shift where one was applied; against the instrument's own values where the file had them."""
-    with_E = any(_analysed(r) and r.get("E") is not None and np.isfinite(r["E"])
-                 for r in records)
+def _table(records, csm: bool, nu=None) -> list[str]:
+    """The results table: whole curve names (`NAME_WIDTH_MAX`); E where a Poisson ratio was
+    given or known; each value's +- where the record has its standard deviation; the surface
+    shift where one was applied; against the instrument's own values where the file had
+    them. Each column as wide as its widest cell."""
+    with_E = nu is not None or any(_analysed(r) and r.get("E") is not None
+                                   and np.isfinite(r["E"]) for r in records)
     columns = _csm_columns(records, with_E) if csm else _unloading_columns(with_E)
     if any(r.get("surface_shift") for r in records):
         columns += [("surface [nm]", 12, lambda r: _num(r.get("surface_shift") or 0.0, 1e-9,
                                                          ".3g"))]
-    width = max([5] + [len(r["name"]) for r in records])
-    header = " ".join([f"{'curve':<{width}}"] + [f"{h:>{w}}" for h, w, _ in columns])
-    return [header + "  flags"] + [_table_row(r, columns, width) for r in records]
+    cells = [[cell(r) if _analysed(r) else "-" for _, _, cell in columns] for r in records]
+    widths = [max([w, len(h)] + [len(row[k]) for row in cells])
+              for k, (h, w, _) in enumerate(columns)]
+    width = max([5] + [len(r["name"]) for r in records if len(r["name"]) <= NAME_WIDTH_MAX])
+    header = " ".join([f"{'curve':<{width}}"] + [f"{h:>{w}}" for (h, _, _), w in
+                                                 zip(columns, widths)])
+    return [header + "  flags"] + [_table_row(r, row, widths, width)
+                                   for r, row in zip(records, cells)]
 
 
 def _print_records(args, records) -> None:
@@ -431,7 +451,7 @@ def _print_records(args, records) -> None:
         for r in records:
             print(dumps(r))
     else:
-        print("\n".join(_table(records, args.csm)))
+        print("\n".join(_table(records, args.csm, args.nu)))
 
 
 def _print_counts(records, analysed, n_files: int, elapsed: float, elastic) -> None:

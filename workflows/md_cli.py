@@ -1,8 +1,10 @@
 """`filmscale md indent` and `filmscale potentials`: the atomistic commands.
 
 Everything that can be wrong with the input (spec, potential, elements, sizes) is checked
-before LAMMPS starts; the run shows a progress bar on a terminal and can be interrupted and
-resumed by running the same command again with the same ``--out``.
+before LAMMPS starts; the run shows its progress (`progress.progress_bar`: a bar on a
+terminal, plain lines in a log) and can be interrupted and resumed by running the same
+command again with the same ``--out``. The summary's Oliver-Pharr figures and flags are what
+`indent analyze` gives on the run's record (`record_oliver_pharr`).
 """
 
 from __future__ import annotations
@@ -16,7 +18,8 @@ from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
 from filmscale.potentials import registry
 from filmscale.potentials.registry import get_potential, verify_all
-from filmscale.workflows.outputs import add_force_argument, check_run_folder
+from filmscale.workflows.outputs import (add_force_argument, check_outputs, check_run_folder,
+                                         image_kind, plot_path)
 
 
 def _indent_spec(args):
@@ -26,8 +29,74 @@ def _indent_spec(args):
     return preset(args.preset) if args.preset else load_spec(args.spec)
 
 
+def _check_plot(args) -> None:
+    """--plot: a plot format, not an input, and no other file unless --force."""
+    plot_path("--plot", args.plot)
+    check_outputs([("the run specification", args.spec)] if args.spec else [],
+                  [("--plot", args.plot, image_kind(args.plot))], args.force)
+
+
+#: the figures of `indent analyze`'s record that `md indent --json` gives as "oliver_pharr"
+OP_KEYS = ("E_r", "E", "H", "h_c", "A_c", "S", "status", "message", "flags", "flag_messages")
+
+
+def record_oliver_pharr(record: Path, plot=None) -> dict:
+    """What `filmscale indent analyze RECORD` gives on the run's record (the same function,
+    its defaults: the record's tip, drift, surface): E_r, H and the flags; ``plot``: its
+    load-displacement curve with the Oliver-Pharr fit drawn there."""
+    from .indent import AnalysisOptions, analyze_file
+    return analyze_file(record, AnalysisOptions(), plot_file=plot)[0]
+
+
+def oliver_pharr_text(r: dict) -> str:
+    """The summary's Oliver-Pharr line of `record_oliver_pharr`, one line per flag under it."""
+    head = "Oliver-Pharr (as indent analyze on the record): "
+    if r.get("status") == 0:
+        head += (f"E_r {r['E_r'] * 1e-9:.1f} GPa, H {r['H'] * 1e-9:.2f} GPa, A_c "
+                 f"{r['A_c'] * 1e18:.2f} nm^2")
+    else:
+        head += f"not analysed: {r.get('message', '')}"
+    flags = r.get("flags", [])
+    messages = list(r.get("flag_messages", [])) + [""] * len(flags)
+    if not flags:
+        return head + "; no flags"
+    return "\n".join([f"{head}; flags: {', '.join(flags)}"] +
+                     [f"  {code}: {text}" if text else f"  {code}"
+                      for code, text in zip(flags, messages)])
+
+
+def _json(run, analysis, record: Path, op: dict, plot) -> dict:
+    return {"P_max": analysis.P_max, "h_max": analysis.h_max,
+            "residual_depth": analysis.residual_depth,
+            "E_r_hertz": analysis.E_r_hertz, "E_star": analysis.E_star,
+            "hertz_ratio": analysis.hertz_ratio, "M": analysis.M,
+            "hertz_ratio_M": analysis.hertz_ratio_M,
+            "hertz_offset": analysis.hertz_offset, "popin_load": analysis.popin_load,
+            "popin_depth": analysis.popin_depth,
+            "popin_shear_stress": analysis.popin_shear_stress,
+            "contact_area_md": analysis.contact_area_md,
+            "contact_area_op": analysis.op.A_c if analysis.op is not None else None,
+            "pile_up": analysis.pile_up, "n_atoms": run.n_atoms,
+            "n_steps": run.n_steps, "wall_time": run.wall_time,
+            "result": str(record), "oliver_pharr": {k: op.get(k) for k in OP_KEYS},
+            "plot": plot}
+
+
+def _print_summary(run, analysis, elastic, record: Path, op: dict, plot) -> None:
+    from filmscale.md.analysis import HERTZ_TOLERANCE
+    print(elastic.summary())
+    print(analysis.summary(oliver_pharr=oliver_pharr_text(op)))
+    if math.isfinite(analysis.hertz_ratio) and \
+            abs(analysis.hertz_ratio - 1.0) > HERTZ_TOLERANCE:
+        print(f"note: the Hertzian segment departs from the potential's E* by more than "
+              f"{HERTZ_TOLERANCE:.0%} (a film on a stiffer or softer substrate does)")
+    if plot:
+        print(f"plot: {plot}")
+    print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
+
+
 def cmd_md_indent(args) -> int:
-    from filmscale.md.analysis import HERTZ_TOLERANCE, analyze_indentation
+    from filmscale.md.analysis import analyze_indentation
     from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.lammps_input import run_dir_for
@@ -39,6 +108,7 @@ def cmd_md_indent(args) -> int:
     out = Path(args.out) if args.out else run_dir_for("md_runs", spec.name)
     check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
                      args.force)
+    _check_plot(args)
     slab = spec.slab_built
     if not args.json:
         print(f"{spec.name}: {slab.n_atoms} atoms, {spec.protocol.schedule().s_end} steps, "
@@ -57,29 +127,11 @@ def cmd_md_indent(args) -> int:
     analysis = analyze_indentation(run, elastic)
     record = write_record(run, analysis, elastic, provenance=provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
+    op = record_oliver_pharr(record, args.plot)
     if args.json:
-        result = {"P_max": analysis.P_max, "h_max": analysis.h_max,
-                  "residual_depth": analysis.residual_depth,
-                  "E_r_hertz": analysis.E_r_hertz, "E_star": analysis.E_star,
-                  "hertz_ratio": analysis.hertz_ratio, "M": analysis.M,
-                  "hertz_ratio_M": analysis.hertz_ratio_M,
-                  "hertz_offset": analysis.hertz_offset, "popin_load": analysis.popin_load,
-                  "popin_depth": analysis.popin_depth,
-                  "popin_shear_stress": analysis.popin_shear_stress,
-                  "contact_area_md": analysis.contact_area_md,
-                  "contact_area_op": analysis.op.A_c if analysis.op is not None else None,
-                  "pile_up": analysis.pile_up, "n_atoms": run.n_atoms,
-                  "n_steps": run.n_steps, "wall_time": run.wall_time,
-                  "result": str(record)}
-        print(dumps(result))
+        print(dumps(_json(run, analysis, record, op, args.plot)))
     else:
-        print(elastic.summary())
-        print(analysis.summary())
-        if math.isfinite(analysis.hertz_ratio) and \
-                abs(analysis.hertz_ratio - 1.0) > HERTZ_TOLERANCE:
-            print(f"note: the Hertzian segment departs from the potential's E* by more than "
-                  f"{HERTZ_TOLERANCE:.0%} (a film on a stiffer or softer substrate does)")
-        print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
+        _print_summary(run, analysis, elastic, record, op, args.plot)
     return 0
 
 
@@ -124,6 +176,9 @@ def add_arguments(sub) -> None:
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="plot the load-displacement curve with its Oliver-Pharr fit (as "
+                        "indent analyze --plot draws it)")
     add_force_argument(p)
     p.set_defaults(func=cmd_md_indent)
 

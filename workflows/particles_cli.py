@@ -1,7 +1,8 @@
 """`filmscale particles indent|impact`: the particle continuum models (SPH, peridynamics).
 
 The spec (or preset) is checked in full before LAMMPS starts; bad input exits with status 2
-and one line. The run shows a progress bar on a terminal; ``--json`` prints one object in SI.
+and one line. The run shows its progress (`progress.progress_bar`: a bar on a terminal, plain
+lines with the time left in a log); ``--json`` prints one object in SI.
 """
 
 from __future__ import annotations
@@ -67,8 +68,10 @@ def add_arguments(sub) -> None:
     """Register ``particles`` on the top-level subparsers."""
     p = sub.add_parser("particles", help="SPH and peridynamics particle models in LAMMPS")
     psub = p.add_subparsers(dest="particles_command", required=True)
-    for kind, text in (("indent", "quasi-static indentation (load, hold, unload)"),
-                       ("impact", "impact of a free rigid sphere")):
+    # ULSPH models indentation only (md/particles.py); the impact offers what it runs
+    for kind, text, methods in (
+            ("indent", "quasi-static indentation (load, hold, unload)", ("tlsph", "peri", "ulsph")),
+            ("impact", "impact of a free rigid sphere", ("tlsph", "peri"))):
         q = psub.add_parser(kind, help=text,
                             description=f"Run a particle-model {text}, analyse it and write "
                                         "the HDF5 record (particles.h5 in the run directory).")
@@ -77,7 +80,7 @@ def add_arguments(sub) -> None:
                        help="a built-in spec instead of a spec file: ci (seconds), quick "
                             "(minutes on 2 cores) or research (sizes for a study, for MPI on "
                             "many cores)")
-        q.add_argument("--method", choices=("tlsph", "peri", "ulsph"),
+        q.add_argument("--method", choices=methods,
                        help="override the spec's method")
         q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
         q.add_argument("--out", metavar="DIR",

@@ -1,19 +1,37 @@
-"""Progress of long work on stderr: a tqdm bar on a terminal; elsewhere (a batch job's log
-file) a plain line every `PLAIN_EVERY_S` seconds with the percentage, the rate and the time
-left, since a bar redrawn in place is unreadable in a file."""
+"""Progress of long work on stderr, the one helper every long command uses (`impact-map`,
+`indent analyze`, `md indent`, `particles`, `run`): a tqdm bar on a terminal; elsewhere (a
+batch job's log file) a plain line every `PLAIN_EVERY_S` seconds, the first and the last
+always, with the count, the percentage, the rate and the time left, since a bar redrawn in
+place (``\\r``) is unreadable in a file. Both show the time left."""
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 
 #: seconds between plain progress lines (the first and the last are always written)
 PLAIN_EVERY_S = 30.0
+#: the terminal bar: the count, the percentage, the elapsed time and the time left
+BAR_FORMAT = ("{desc}: {n_fmt}/{total_fmt} {unit} {percentage:3.0f}%|{bar}| "
+              "[{elapsed} elapsed, {remaining} left, {rate_fmt}]")
+
+
+def time_left(seconds: float) -> str:
+    """``40 s left``, ``2.9 min left``, ``1.6 h left``, or ``time left unknown``."""
+    if not math.isfinite(seconds):
+        return "time left unknown"
+    if seconds < 90:
+        return f"{seconds:.0f} s left"
+    if seconds < 90 * 60:
+        return f"{seconds / 60:.1f} min left"
+    return f"{seconds / 3600:.1f} h left"
 
 
 class PlainProgress:
-    """The part of tqdm's interface the package uses (``n``, ``update``, ``close``), written as
-    lines ``filmscale: LABEL 42% (2300/5500 steps, 18.3 steps/s, 2.9 min left)``."""
+    """The part of tqdm's interface the package uses (``n``, ``total``, ``update``,
+    ``close``), written as lines
+    ``filmscale: LABEL: 2300/5500 steps, 42% (18.3 steps/s, 2.9 min left)``."""
 
     def __init__(self, total: int, unit: str, label: str, every: float = PLAIN_EVERY_S,
                  stream=None):
@@ -26,15 +44,17 @@ class PlainProgress:
     def update(self, k: int = 1) -> None:
         self.n = min(self.n + int(k), self.total)
         now = time.monotonic()
+        if self.n == self._said:        # nothing new since the last line
+            return
         if self._said < 0 or now - self._last >= self.every or self.n == self.total:
             self._line(now)
 
     def _line(self, now: float) -> None:
         rate = self.n / max(now - self._start, 1e-9)
-        left = (self.total - self.n) / rate if rate > 0 else float("inf")
-        eta = f"{left / 60:.1f} min left" if left != float("inf") else "time left unknown"
-        print(f"filmscale: {self.label} {100 * self.n / self.total:.0f}% ({self.n}/{self.total} "
-              f"{self.unit}s, {rate:.3g} {self.unit}s/s, {eta})", file=self.stream, flush=True)
+        left = (self.total - self.n) / rate if rate > 0 else math.inf
+        print(f"filmscale: {self.label}: {self.n}/{self.total} {self.unit}s, "
+              f"{100 * self.n / self.total:.0f}% ({rate:.3g} {self.unit}s/s, "
+              f"{time_left(left)})", file=self.stream, flush=True)
         self._last, self._said = now, self.n
 
     def close(self) -> None:
@@ -47,11 +67,27 @@ def progress_bar(total: int, unit: str, label: str, enabled: bool = True):
     not ``enabled``."""
     from tqdm import tqdm
     if not enabled or sys.stderr.isatty():
-        return tqdm(total=total, unit=unit, desc=label, disable=not enabled, file=sys.stderr,
-                    leave=False)
-    return PlainProgress(total, unit, label)
+        return tqdm(total=total, unit=f"{unit}s", desc=label, disable=not enabled, file=sys.stderr,
+                    leave=False, bar_format=BAR_FORMAT)
+    return PlainProgress(total, unit, label, every=PLAIN_EVERY_S)
+
+
+def set_total(bar, total: int) -> None:
+    """Give ``bar`` (tqdm or `PlainProgress`) the total once it is better known (the curves of
+    files not read yet, the in-range points of a map)."""
+    bar.total = max(int(total), 1, bar.n)
 
 
 def step_callback(bar, total: int):
     """The ``progress(step, total)`` callback of the engines, moving ``bar`` to ``step``."""
     return lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
+
+
+def count_callback(bar):
+    """The ``progress(done, total)`` callback of the maps, moving ``bar`` to ``done`` of the
+    ``total`` the map reports (its points, or those in the model's range)."""
+    def report(done: int, total: int) -> None:
+        if total != bar.total:
+            set_total(bar, total)
+        bar.update(max(0, min(done, bar.total) - bar.n))
+    return report

@@ -453,7 +453,7 @@ def fit_tip_radius(h_c, S, *, half_angle=BERKOVICH_CONE, beta=BETA_TRIANGULAR,
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 _NUMBER = re.compile(r"^\s*([0-9.eE+-]+)\s*([a-zµ]*)\s*$")
 TIP_FORMS = ("berkovich[:R0]", "cube-corner[:R0]", "cone:THETA[:R0]", "sphere:R",
-             "sphero-conical:R[:THETA]", "flat:A")
+             "sphero-conical:R[:THETA]", "flat:RADIUS")
 
 
 def parse_length(text: str, what: str) -> float:

@@ -194,3 +194,44 @@ def test_shallow_correction_uses_the_elastic_indent(folder, capsys):
     r = rows["i7"]
     # Yeo-Polycarpou with A = k h^2: H_shallow = H h_c / (h_c - h_e)
     assert r["H_shallow"] == pytest.approx(r["H"] * r["h_c"] / (r["h_c"] - h_e), rel=1e-9)
+
+
+def test_the_table_names_every_curve_whole_and_shows_E_with_nu(folder, capsys):
+    """Names up to 40 characters widen the curve column to the longest of them; a longer one
+    is printed whole on a line of its own, its figures on the next line in the same columns. --nu adds E (oracle:
+    E from E_r, nu and diamond, as the JSON has it)."""
+    from filmscale.workflows.indent_cli import NAME_WIDTH_MAX
+    long = "sample_2024-05-17_DLC_on_CoCrPt_array_row03_col17"       # 49 characters
+    middle = "DLC_on_CoCrPt_row03_col17_second_run"                    # 36 characters
+    assert len(middle) < NAME_WIDTH_MAX < len(long)
+    (folder / "i0.csv").rename(folder / f"{long}.csv")
+    (folder / "i1.csv").rename(folder / f"{middle}.csv")
+    assert main(["indent", "analyze", str(folder), "--tip", "berkovich", "--nu", "0.25",
+                 "--json"]) == 0
+    rows = {r["name"]: r for r in map(json.loads, capsys.readouterr().out.splitlines())}
+    assert main(["indent", "analyze", str(folder), "--tip", "berkovich", "--nu", "0.25"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = lines[0]
+    assert header.split()[:4] == ["curve", "E_r", "[GPa]", "E"]
+    # the curve column is as wide as the longest name that fits in it
+    assert header.startswith("curve" + " " * (len(middle) - 5) + "  E_r [GPa]")
+    own = lines.index(long)                       # the long name alone on its line
+    figures = lines[own + 1]
+    assert figures.startswith(" " * len(middle)) and not lines[own + 1].startswith(long)
+    E = f"{rows[long]['E'] / 1e9:.4g}"
+    assert figures.split()[:2] == [f"{rows[long]['E_r'] / 1e9:.4g}", E]
+    assert any(line.startswith(middle + " ") for line in lines)
+    # the columns line up: each figure ends where its header does
+    end = header.index("E [GPa]") + len("E [GPa]")
+    assert figures[:end].endswith(E)
+
+
+def test_a_standard_deviation_follows_its_value():
+    """A record that has E_r_std (and E_std, H_std) shows each +- its deviation; the column
+    widens to it."""
+    from filmscale.workflows.indent_cli import _table
+    record = {"name": "c", "status": 0, "E_r": 150.0e9, "E_r_std": 2.5e9, "E": 160e9,
+              "H": 15e9, "h_c": 50e-9, "S": 4e4, "flags": []}
+    header, row = _table([record], csm=False, nu=0.25)
+    assert "150 +- 2.5" in row and "160" in row
+    assert row.index("150 +- 2.5") + len("150 +- 2.5") == header.index("E_r [GPa]") + 9

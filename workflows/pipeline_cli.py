@@ -141,14 +141,24 @@ def _load_sweep(args):
 
 
 def _plan_sweep(scenes) -> int:
-    """``sweep plan``: each scene's overrides and plan."""
+    """``sweep plan``: each scene's overrides and plan; on stderr, one line per swept key
+    that changes nothing the plans keep (`sweep.unused_keys`; a plan that waits for its
+    calibrations is checked by `sweep run`)."""
     from .plan import plan_scene
-    from .sweep import default_jobs
+    from .sweep import default_jobs, unused_keys
+    plans = []
     for s in scenes:
         changes = ", ".join(f"{k} = {v!r}" for k, v in s.overrides.items()) or "the base"
-        print(f"== {s.name}: {changes}\n{plan_scene(s.scene).text()}")
+        plans.append(plan_scene(s.scene))
+        print(f"== {s.name}: {changes}\n{plans[-1].text()}")
     print(f"{len(scenes)} scene(s); `filmscale sweep run` would run "
           f"{default_jobs(scenes)} at a time here")
+    for w in unused_keys(scenes, [p.decisions for p in plans]):
+        print(f"filmscale: warning: {w['text']}", file=sys.stderr)
+    waiting = sum("law" not in p.decisions for p in plans)
+    if waiting:
+        print(f"filmscale: {waiting} scene(s) choose their impact models after calibration; "
+              "`filmscale sweep run` checks their swept keys then", file=sys.stderr)
     return 0
 
 
@@ -156,15 +166,29 @@ def _submit_sweep(args, name: str, scenes, out_dir: Path) -> int:
     """``sweep submit``: the run units as one SLURM array job, then the scenes after them."""
     from filmscale.core.jsonable import dumps
 
-    from .slurm import submit_sweep
+    from .slurm import dry_run_text, submit_sweep
+    options = _submit_options(args)
     _check_sweep_outputs(Path(args.sweep), name, scenes, out_dir, None, False)
-    jobs = submit_sweep(Path(args.sweep).resolve(), name, scenes,
-                        Path(args.store).resolve(), out_dir.resolve(), args.partition,
-                        args.time)
+    where = (Path(args.sweep).resolve(), name, scenes, Path(args.store).resolve(),
+             out_dir.resolve(), options)
+    if args.dry_run:
+        print(dry_run_text(*where))
+        return 0
+    jobs = submit_sweep(*where)
     print(f"filmscale: submitted {len(jobs['units'])} run unit(s) and {len(jobs['scenes'])} "
           f"scene(s); `filmscale status {args.store}` follows them", file=sys.stderr)
     print(dumps(jobs))
     return 0
+
+
+def _submit_options(args):
+    """`slurm.SubmitOptions` of ``sweep submit``'s options, checked (InputError, one line)."""
+    from .slurm import SubmitOptions, sbatch_options
+    return SubmitOptions(
+        partition=args.partition, account=args.account, qos=args.qos, mem=args.mem,
+        constraint=args.constraint, gres=args.gres, array_limit=args.array_limit,
+        extra=sbatch_options(args.sbatch), unit_minutes=args.time,
+        scene_minutes=args.scene_time, allow_local_paths=args.allow_local_paths)
 
 
 def _run_sweep(args, name: str, scenes, out_dir: Path) -> int:
@@ -290,6 +314,42 @@ def _sweep_parser(ssub, name: str, help_text: str):
     return q
 
 
+def _submit_arguments(q) -> None:
+    """``sweep submit``'s options (`slurm.SubmitOptions`, docs/hpc.md)."""
+    _store_argument(q, "folder of the hash-named run units, shared by every task")
+    q.add_argument("--out-dir", metavar="DIR",
+                   help="results, indexes and the tasks' logs (default results/NAME)")
+    q.add_argument("--partition", help="SLURM partition (default: the cluster's)")
+    q.add_argument("--account", help="SLURM account both jobs are charged to")
+    q.add_argument("--qos", help="SLURM quality of service of both jobs")
+    q.add_argument("--mem", metavar="SIZE",
+                   help="memory of each task's node share, SLURM's format: 4G, 4000M, 500K")
+    q.add_argument("--constraint", metavar="FEATURES",
+                   help="node features both jobs need (sbatch --constraint)")
+    q.add_argument("--gres", help="generic resources of each task, e.g. gpu:1")
+    q.add_argument("--array-limit", type=int, metavar="N",
+                   help="at most N tasks of each array job at once (--array=...%%N)")
+    q.add_argument("--sbatch", action="append", default=[], metavar="'OPTIONS'",
+                   help="further sbatch options for both jobs, each --name or --name=value, "
+                        "split as a shell would; write --sbatch='--exclusive "
+                        "--mail-type=END' (with the =). Refused: what filmscale sets itself "
+                        "(--array, --dependency, --output, --time, ...) and its own options")
+    q.add_argument("--time", type=int, metavar="MINUTES",
+                   help="time limit of each run-unit task (default: three times the "
+                        "largest task's estimate plus 10 min: an array's tasks share one "
+                        "limit); a task near it requeues itself and resumes from its last "
+                        "restart file")
+    q.add_argument("--scene-time", type=int, metavar="MINUTES",
+                   help="time limit of each scene task (default: three times the largest "
+                        "scene's estimated impact evaluations plus 10 min)")
+    q.add_argument("--dry-run", action="store_true",
+                   help="print each job's sbatch command line and script; submit nothing, "
+                        "write nothing")
+    q.add_argument("--allow-local-paths", action="store_true",
+                   help="allow an interpreter, sweep file, store or out-dir under /tmp, "
+                        "/var/tmp, /dev/shm or $TMPDIR (a single-node site; tests)")
+
+
 def add_arguments(sub) -> None:
     """``plan``, ``run``, ``sweep``, ``cancel``, ``status`` and ``report``, on the top-level
     sub-parsers."""
@@ -333,14 +393,7 @@ def add_arguments(sub) -> None:
     add_force_argument(q)
     q = _sweep_parser(ssub, "submit", "submit the sweep to SLURM: its run units as one array "
                                       "job, then its scenes after them")
-    _store_argument(q, "folder of the hash-named run units, shared by every task")
-    q.add_argument("--out-dir", metavar="DIR",
-                   help="results, indexes and the tasks' logs (default results/NAME)")
-    q.add_argument("--partition", help="SLURM partition (default: the cluster's)")
-    q.add_argument("--time", type=int, metavar="MINUTES",
-                   help="time limit of each run-unit task (default: three times the "
-                        "planner's estimate plus 10 min); a task near it requeues itself and "
-                        "resumes from its last restart file")
+    _submit_arguments(q)
     q = _sweep_parser(ssub, "run-unit", "run one run unit of a sweep (what a SLURM task of "
                                         "`sweep submit` runs)")
     _store_argument(q, "the shared store")

@@ -20,12 +20,9 @@ Units: SI throughout (m, kg, m/s, N, Pa, s, J).
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
-from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from filmscale.continuum.contact.laws import ContactLaw
 from filmscale.continuum.contact.results import (EXCEEDS_RADIUS, OK, STATUS_MESSAGES,
@@ -36,9 +33,9 @@ from filmscale.continuum.materials import ElasticPlastic, reduced_modulus
 from filmscale.core.checks import (DENSITY_MIN, MASS_RANGE, RADIUS_RANGE, VELOCITY_RANGE,
                                    YIELD_STRAIN_HIGH, check_broadcast, check_choice, check_density,
                                    check_positive_array, check_real, sphere_density)
-from filmscale.core.cores import usable_cores
 from filmscale.core.errors import InputError, ModelRangeError
 
+from .blocks import solve_in_blocks
 from .brackets import find_maximum, find_root
 from .events import (Event, HistoryOptions, PiecewiseRun, Stop, check_history_options,
                      sampled_maximum)
@@ -54,7 +51,6 @@ _GEOMETRIC_DEPTH = 40  # work tables start at R 2^-40
 # the rest of the path): deeper octaves only cost time
 _TIME_OCTAVES = 5
 _SCAN_PER_OCTAVE = 4   # severity scan for breakpoints in depth-dependent targets
-_BLOCK = 1024         # fast-path points solved together
 
 
 @dataclass(frozen=True)
@@ -252,26 +248,9 @@ class ImpactModel:
         regime = np.full(V.size, -1)
         yielded = np.zeros(V.size, dtype=bool)
 
-        # blocks of points keep the (points x pieces x nodes) temporaries in reused memory;
-        # blocks write disjoint entries; numpy releases the GIL in its array loops, so
-        # threads share the cores
-        blocks = np.array_split(ok, -(-ok.size // _BLOCK)) if ok.size else []
-
-        def solve(block):
-            self._fill_maxima(block, inv[block], energy, V, R, m, bp, edges, branches, work,
-                              n_fields, status, regime, yielded)
-            return block.size
-
-        workers = min(len(blocks), usable_cores())
-        done = 0
-        # OpenBLAS's own threads, started by every small matrix product of each worker, fight
-        # the workers for the cores: a layered map took as long on 2 threads as on 1
-        with (ThreadPoolExecutor(workers) if workers > 1 else nullcontext()) as pool, \
-                (threadpool_limits(1, user_api="blas") if workers > 1 else nullcontext()):
-            for size in (pool.map if pool else map)(solve, blocks):
-                done += size
-                if progress is not None:
-                    progress(done, ok.size)
+        solve_in_blocks(ok, lambda block: self._fill_maxima(
+            block, inv[block], energy, V, R, m, bp, edges, branches, work, n_fields, status,
+            regime, yielded), progress)
 
         return ImpactMaxima(**{k: v.reshape(shape) for k, v in n_fields.items()},
                             yielded=yielded.reshape(shape), regime=regime.reshape(shape),

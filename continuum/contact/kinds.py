@@ -29,6 +29,7 @@ import numpy as np
 from filmscale.core.checks import check_density
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.keys import REQUIRED, Key
+from filmscale.core.quantities import eng
 
 from .impact_map import GridMap, grid_map
 from .results import EXCEEDS_RADIUS, OK, STATUS_MESSAGES
@@ -223,7 +224,8 @@ def _sphere_kinds() -> tuple[ModelKind, ModelKind]:
     from .impact import ImpactModel
     from .impact_map import MAP_FIELDS, ImpactMap, impact_map
     from .laws import DEFAULT_LAW, LAW_NAMES, ContactLaw, contact_law
-    from .oblique import OBLIQUE_FIELDS, SOLID_SPHERE, oblique_map, solve_oblique
+    from .oblique import (
+        INERTIA_FACTOR_MAX, OBLIQUE_FIELDS, SOLID_SPHERE, oblique_map, solve_oblique)
     from .restitution import UNLOADING_MODELS
     from .results import ImpactMaxima
 
@@ -239,8 +241,10 @@ def _sphere_kinds() -> tuple[ModelKind, ModelKind]:
         Key("angle", "degree", 0.0, 0.0, 90.0, high_open=True,
             doc="incidence from the normal: an oblique impact with tangential speed "
             "V tan(angle), V staying the normal speed (docs/physics.md section 5)"),
-        Key("inertia_factor", "1", SOLID_SPHERE, 0.0, 1.0, low_open=True,
-            doc="I / (m R^2) of the sphere in an oblique impact (0.4 solid, 2/3 thin shell)"),
+        Key("inertia_factor", "1", SOLID_SPHERE, 0.0, INERTIA_FACTOR_MAX, low_open=True,
+            doc="I / (m R^2) of an oblique impact, I the impactor's own moment of inertia "
+            "about the tip's centre: 0.4 solid sphere, 2/3 thin shell, > 1 with mass beyond R, "
+            "1e8 a body that does not turn (a slider corner: docs/slider-dynamics.md)"),
         Key("friction", "1", 0.0, 0.0, 10.0, section="contact",
             doc="Coulomb coefficient mu of an oblique impact"),
     )
@@ -347,7 +351,7 @@ def _cylinder_kind() -> ModelKind:
         fields=CYLINDER_MAP_FIELDS, units=CYLINDER_UNITS, keys=keys,
         size="contact_half_width", history_labels=labels, regime_names=REGIME_NAMES,
         range_limit="half-width > min(R, d/5)", status_messages=CYLINDER_STATUS_MESSAGES,
-        label=lambda options: f"cylinder L = {options['length']:g} m")
+        label=lambda options: f"cylinder L = {eng(options['length'], 'm')}")
 
 
 # the package's own kinds, in this order; others join with `register`

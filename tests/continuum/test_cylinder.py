@@ -5,6 +5,8 @@ works in the half-width b), a root finder on it and adaptive quadrature or an ex
 Runge-Kutta integration of m x'' = -L P'(x)."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -15,8 +17,10 @@ from scipy.optimize import brentq
 from filmscale.continuum.contact.cylinder import (FULLY_PLASTIC_FACTOR, CylinderImpactModel,
                                                   cylinder_yield_factor, line_approach,
                                                   line_half_width, line_work)
+from filmscale.continuum.contact.cylinder_fast import CylinderMaxima
 from filmscale.continuum.contact.impact_map import CYLINDER_UNITS, cylinder_map
-from filmscale.continuum.contact.profiles import StackProfile
+from filmscale.continuum.contact.profiles import StackProfile, TableProfile
+from filmscale.continuum.contact.results import EXCEEDS_RADIUS, OK, CylinderImpactResult
 from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack
 from filmscale.core.errors import InputError, ModelRangeError
 
@@ -315,7 +319,8 @@ def test_map_values_are_the_single_impacts():
     for i, R_ in enumerate(radius):
         for j, V in enumerate(velocity[:2]):
             res = model.maxima(V, R_, M)
-            for key in CYLINDER_UNITS:          # the same call: exact
+            # the same fast path, point by point: exact (it works element-wise)
+            for key in CYLINDER_UNITS:
                 assert mp.field(key)[i, j] == getattr(res, key), key
             assert mp.regime_names[mp.regime[i, j]] == res.regime
             assert mp.yielded[i, j] == res.yielded
@@ -325,3 +330,147 @@ def test_map_values_are_the_single_impacts():
         mp.field("contact_radius_max")
     with pytest.raises(InputError, match="lighter than a cylinder"):    # checked at the largest R
         cylinder_map(model, velocity, [1e-3, 0.5], M)
+
+
+# --- the vectorised fast path ---------------------------------------------------------------
+
+FILM = ElasticPlastic(E=120e9, nu=0.25, sigma_y=0.8e9, name="film")
+#: surface yield first (nu < 0.19), an elastic slider and a datum of its own
+LOW_NU = ElasticPlastic(E=150e9, nu=0.12, sigma_y=0.6e9, name="low nu")
+FAST_CASES = {
+    "uniform": lambda: CylinderImpactModel(STEEL, L),
+    "slider, nu 0.12, d = 2 mm": lambda: CylinderImpactModel(LOW_NU, L, SLIDER, 2e-3),
+    "30 um film": lambda: CylinderImpactModel(LayerStack([Layer(30e-6, FILM)], STEEL), L),
+    "two films, Nix-Gao": lambda: CylinderImpactModel(StackProfile(LayerStack(
+        [Layer(2e-6, ElasticPlastic(E=300e9, nu=0.2, sigma_y=4e9)), Layer(20e-6, FILM)],
+        STEEL), h_star=(1e-7, 0.0, 0.0)), L, SLIDER),
+    "measured table": lambda: CylinderImpactModel(TableProfile(
+        depths=np.array([1e-7, 1e-6, 1e-5]), plane_strain_modulus=np.array([150e9, 200e9,
+                                                                             220e9]),
+        hardness=np.array([6e9, 4e9, 3e9]), hardness_factor=2.8, nu=0.3), L),
+}
+#: every float result of a point
+RESULT_FIELDS = tuple(k for k in CylinderMaxima.UNITS if k not in ("velocity", "radius",
+                                                                   "mass"))
+
+
+def _regime_speeds(model, R_):
+    """Speeds (m/s) of an elastic, a contained-plastic, a fully plastic and an out-of-range
+    impact: from the adaptive path's work to first yield, to the cap and to the range
+    limit."""
+    tables = model.tables(R_)
+    v_y, v_cap, v_lim = (math.sqrt(2 * L * model.work(0.0, b, R_, tables) / M)
+                         for b in (tables.b_yield, tables.b_plastic, tables.b_limit))
+    return np.array([0.5 * v_y, math.sqrt(v_y * v_cap), 4.0 * v_cap, 1.5 * v_lim])
+
+
+@pytest.mark.parametrize("case", list(FAST_CASES))
+def test_fast_path_agrees_with_the_adaptive_path(case):
+    # the point-by-point reference: adaptive quadrature (epsrel 1e-12) and brentq; maps must
+    # stay within 1e-9 of it (the fast path is within about 3e-11,
+    # benchmarks/cylinder_map_speed.py)
+    model = FAST_CASES[case]()
+    V = _regime_speeds(model, R)
+    fast = model.maxima(V, R, M)
+    assert isinstance(fast, CylinderMaxima) and fast.status.shape == (4,)
+    assert fast.regime.tolist() == [0, 1, 2, -1]
+    assert fast.status.tolist() == [OK, OK, OK, EXCEEDS_RADIUS]
+    for i in range(3):
+        ref = model.maxima_adaptive(V[i], R, M)
+        one = fast.result(i)
+        assert one.regime == ref.regime and one.yielded == ref.yielded
+        for key in RESULT_FIELDS:
+            assert getattr(one, key) == pytest.approx(getattr(ref, key), rel=1e-9), key
+    with pytest.raises(ModelRangeError, match="half-width"):
+        model.maxima_adaptive(V[3], R, M)
+    for key in RESULT_FIELDS:           # out of range: NaN, as the map shows it
+        assert np.isnan(getattr(fast, key)[3]), key
+
+
+@pytest.mark.parametrize("case", ["uniform", "slider, nu 0.12, d = 2 mm", "30 um film"])
+def test_fast_path_agrees_with_the_time_integration(case):
+    # as the sphere's fast path (tests/continuum/test_impact.py): the history at its default
+    # rtol 1e-10, to 1e-6 relative; the residual depth to 1e-6 of the approach
+    model = FAST_CASES[case]()
+    V = _regime_speeds(model, R)
+    fast = model.maxima(V, R, M)
+    for i in range(3):
+        slow = model.history(V[i], R, M).result
+        one = fast.result(i)
+        assert one.regime == slow.regime == ("elastic", "contained plastic",
+                                             "fully plastic")[i]
+        for key in RESULT_FIELDS:
+            if key == "residual_depth":
+                assert slow.residual_depth == pytest.approx(one.residual_depth,
+                                                            abs=1e-6 * one.delta_max)
+            else:
+                assert getattr(slow, key) == pytest.approx(getattr(one, key), rel=1e-6), key
+    with pytest.raises(ModelRangeError, match="half-width"):
+        model.history(V[3], R, M)
+
+
+def test_scalars_give_a_result_and_arrays_broadcast():
+    model = CylinderImpactModel(STEEL, L)
+    one = model.maxima(3.0, R, M)
+    assert isinstance(one, CylinderImpactResult) and one.path == "energy-quadrature"
+    V, radii = np.array([[0.2, 3.0, 500.0]]), np.array([[1e-3], [2e-3]])
+    grid = model.maxima(V, radii, M)
+    assert grid.delta_max.shape == grid.status.shape == grid.regime.shape == (2, 3)
+    assert grid.mass.shape == (2, 3) and np.all(grid.mass == M)
+    assert grid.result((0, 1)) == one           # element-wise: the same numbers
+    assert grid.status[:, 2].tolist() == [EXCEEDS_RADIUS] * 2
+    with pytest.raises(ModelRangeError, match="half-width above"):
+        grid.result((1, 2))
+    # growth with V and fall with R at fixed V, as every map shows
+    assert np.all(np.diff(model.maxima(np.geomspace(0.01, 50, 30), R, M).delta_max) > 0)
+    assert np.all(np.diff(model.maxima(3.0, np.geomspace(5e-4, 5e-3, 10), M).delta_max) < 0)
+    # the end-effect warning of a contact wider than L/10 comes with the point's result
+    short = CylinderImpactModel(STEEL, 1e-3, datum_depth=5e-3)
+    found = short.maxima(np.array([0.5, 20.0]), R, 1e-3)
+    assert [bool(found.result(i).warnings) for i in (0, 1)] == [False, True]
+    assert "end effects" in found.result(1).warnings[0]
+    assert found.result(1).warnings == short.maxima_adaptive(20.0, R, 1e-3).warnings
+
+
+def test_array_inputs_are_checked():
+    model = CylinderImpactModel(STEEL, L)
+    with pytest.raises(InputError, match="velocity"):
+        model.maxima(np.array([1.0, -1.0]), R, M)
+    with pytest.raises(InputError, match="radius"):
+        model.maxima(1.0, np.array([1e-3, 2e3]), M)
+    with pytest.raises(InputError, match="lighter than a cylinder"):
+        model.maxima(1.0, np.array([1e-3, 0.5]), M)
+    with pytest.raises(InputError, match="shapes"):
+        model.maxima(np.ones(3), np.full(2, R), M)
+
+
+def test_layered_map_equals_the_single_impacts():
+    model = FAST_CASES["two films, Nix-Gao"]()
+    velocity, radius = np.array([0.5, 3.0, 20.0]), np.array([5e-4, 1e-3])
+    mp = cylinder_map(model, velocity, radius, M)
+    for i, R_ in enumerate(radius):
+        for j, V in enumerate(velocity):
+            res = model.maxima(V, R_, M)
+            # the profile's matrix products over two interfaces round by the array's size
+            for key in CYLINDER_UNITS:
+                assert mp.field(key)[i, j] == pytest.approx(getattr(res, key), rel=1e-12), key
+            assert mp.regime_names[mp.regime[i, j]] == res.regime
+
+
+def test_the_fast_path_and_its_map_load_no_scipy_sub_package():
+    # `filmscale impact` and `impact-map` on a cylinder scene: scipy.optimize alone takes
+    # 0.45 s to import (tests/workflows/test_terminal.py holds the same for the sphere)
+    code = ("import sys\n"
+            "from filmscale.continuum.contact.cylinder import CylinderImpactModel\n"
+            "from filmscale.continuum.contact.impact_map import cylinder_map\n"
+            "from filmscale.continuum.materials import ElasticPlastic, Layer, LayerStack\n"
+            "steel = ElasticPlastic(E=200e9, nu=0.3, sigma_y=1e9)\n"
+            "film = ElasticPlastic(E=120e9, nu=0.25, sigma_y=0.8e9)\n"
+            "for target in (steel, LayerStack([Layer(30e-6, film)], steel)):\n"
+            "    model = CylinderImpactModel(target, 5e-3)\n"
+            "    model.maxima(5.0, 1e-3, 1e-3)\n"
+            "    cylinder_map(model, [0.1, 5.0, 500.0], [5e-4, 1e-3], 1e-3)\n"
+            "print(' '.join(sorted(m for m in sys.modules if m.startswith('scipy.'))))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.split() == []

@@ -4,7 +4,7 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.filmscale-installed
 
-.PHONY: install demo test test-all benchmark clean
+.PHONY: install demo test test-all notebooks benchmark clean
 
 install: $(STAMP)
 
@@ -26,6 +26,11 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/python -m pytest
+
+# Each example notebook executed from top to bottom (nbmake, in the test extra), in place of
+# a Jupyter server: the notebooks stay unchanged; open them in Jupyter to read the outputs.
+notebooks: $(STAMP)
+	$(BIN)/python -m pytest -q -p no:cacheprovider tests/workflows/test_notebook.py
 
 test-all: $(STAMP)
 	$(BIN)/python -m pytest -m ""

@@ -1,7 +1,8 @@
 """The README's code cannot rot: every ```python block runs as written, each on its own in a
 fresh namespace and an empty folder (a reader pastes one block, not the page), and every
-command the shell blocks show exists: each ``filmscale`` subcommand and each ``--option`` it
-lists in the command-line parser, each ``make`` target in the Makefile."""
+command the README and docs/*.md name exists: each ``filmscale`` subcommand and each
+``--option`` of their shell blocks and of their inline code (`filmscale report --figure`) in
+the command-line parser, each ``make`` target in the Makefile."""
 
 import argparse
 import re
@@ -31,43 +32,66 @@ def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentP
                  if isinstance(a, argparse._SubParsersAction)), {})
 
 
-def _commands():
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def _shell_commands(text: str) -> list[tuple[list[str], set[str]]]:
     """(subcommand words, options) of each filmscale command line in the shell blocks; an
     option on a continuation line belongs to the command above it."""
     found = []
-    for code in SHELL:
+    for lang, code in re.findall(r"```(\w*)\n(.*?)```", text, re.S):
+        if lang not in ("", "bash", "sh", "console"):
+            continue
+        current = None                      # a block's continuation lines are its own
         for line in code.splitlines():
             words = line.split()
             if words[:1] == ["filmscale"]:
-                found.append((words[1:], set()))
-            elif not found or not line.startswith(" "):
+                current = (words[1:], set())
+                found.append(current)
+            elif current is None or not line.startswith(" "):
                 continue
-            found[-1][1].update(re.findall(r"(--[\w-]+)", line))
+            # a quoted value is another program's (--sbatch='--mail-type=END')
+            current[1].update(re.findall(r"(--[\w-]+)", re.sub(r"'[^']*'", "", line)))
     return found
+
+
+def _inline_commands(text: str) -> list[tuple[list[str], set[str]]]:
+    """(subcommand words, options) of each inline code span that starts with filmscale."""
+    prose = re.sub(r"```.*?```", "", text, flags=re.S).replace("\\|", "|")  # table pipes
+    return [(span.split()[1:], set(re.findall(r"(--[\w-]+)", span)))
+            for span in re.findall(r"`(filmscale [^`]+)`", prose)]
+
+
+def _commands():
+    return [(page.name, words, options) for page in PAGES
+            for words, options in (_shell_commands(page.read_text())
+                                   + _inline_commands(page.read_text()))]
 
 
 COMMANDS = _commands()
 
 
-@pytest.mark.parametrize("words, options", COMMANDS,
-                         ids=[" ".join(w[:2]) for w, _ in COMMANDS])
-def test_filmscale_command_and_options_exist(words, options):
+@pytest.mark.parametrize("page, words, options", COMMANDS,
+                         ids=[f"{p}: {' '.join(w[:2])}" for p, w, _ in COMMANDS])
+def test_filmscale_command_and_options_exist(page, words, options):
     from filmscale.workflows.cli import build_parser
     parsers = [build_parser()]
-    rest = list(words)
+    # `filmscale --version`: options of the top level
+    rest = [] if words and words[0].startswith("--") else list(words)
     while (sub := _subparsers(parsers[0])) and rest:
         names = rest.pop(0).split("|")              # "plan|run": each must exist
         for name in names:
-            assert name in sub, f"filmscale {name}: no such command (README)"
+            assert name in sub, f"filmscale {name}: no such command ({page})"
         parsers = [sub[name] for name in names]
     choices = next((a.choices for a in parsers[0]._actions
                     if not a.option_strings and a.choices), None)
     if choices and rest:                            # "potentials list | show NAME | verify"
         named = [w for w in " ".join(rest).replace("|", " ").split() if w.islower()]
-        assert set(named) <= set(choices), f"README names {named}, the parser {choices}"
+        assert set(named) <= set(choices), f"{page} names {named}, the parser {choices}"
     # options of alternatives ("sweep plan|run [--jobs N]") belong to one of them
     known = {s for parser in parsers for a in parser._actions for s in a.option_strings}
-    assert options <= known, f"filmscale {' '.join(words[:2])}: {options - known} unknown"
+    assert options <= known, (f"{page}: filmscale {' '.join(words[:2])}: "
+                              f"{options - known} unknown")
 
 
 def test_make_targets_exist():

@@ -1,0 +1,308 @@
+"""Stresses in an elastic half-space under a sliding Hertz contact (issue 34, homogeneous part).
+
+Units are SI throughout: loads in N, lengths in m, moduli and stresses in Pa. Stresses are
+positive in tension. Axes: x along the sliding direction, y across it, z the depth into the
+half-space (z >= 0). The slider drags the surface in +x, so the surface traction on the
+half-space is q = mu p in +x (full sliding, Coulomb friction): the leading edge of the contact
+is x = +a and the trailing edge, where the surface is stretched, is x = -a.
+
+Sources
+-------
+* Hertz contact quantities: Johnson, Contact Mechanics (1985), eqs 4.22-4.23 (sphere),
+  4.43-4.45 (cylinder).
+* Cylinder (plane strain): McEwen (1949) / Smith & Liu (1953) closed forms as written in
+  Johnson (1985) eqs 4.50 (normal Hertz pressure) and 7.18 (tangential traction), with the
+  functions m and n of eq 4.49. The tangential sigma_x is written for a traction in +x; its
+  sign was fixed against a direct integration of the Flamant kernels (Johnson section 2.2).
+* Sphere, normal Hertz pressure only (mu = 0): Hamilton (1983), Proc. IMechE 197C 53-59,
+  explicit equations for the normal load (also Hamilton & Goodman 1966), with the axis limit
+  r -> 0 of Huber (1904) / Johnson eq 3.45. Hamilton's equations for the tangential traction
+  were not obtained from a reliable source, so the sphere with friction is NOT built here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from filmscale.core.checks import check_real
+from filmscale.core.errors import InputError
+
+__all__ = [
+    "effective_modulus", "hertz_sphere", "hertz_cylinder", "cylinder_stresses",
+    "sphere_normal_stresses", "principal_stresses", "von_mises", "max_shear",
+    "SlidingResult", "cylinder_sliding", "sphere_normal_result", "cylinder_surface_yield_friction",
+]
+
+MODULUS_RANGE = (1e6, 1e14)     # Pa
+NU_RANGE = (-1.0, 0.5)          # Poisson's ratio, open interval
+MU_MAX = 10.0                   # friction coefficient upper bound
+#: shallowest depth (in units of b) searched for a subsurface maximum of the stress measure
+Z_MIN = 0.01
+#: (r/a)^2 below which the sphere's axis (Huber) values are used
+AXIS_R2 = 4e-8
+
+
+def effective_modulus(E, nu, E_s=None, nu_s=None) -> float:
+    """Contact modulus E* (Pa): 1/E* = (1-nu^2)/E + (1-nu_s^2)/E_s; a rigid slider if E_s is None."""
+    E = check_real("E", E, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+    nu = check_real("nu", nu, low=NU_RANGE[0], high=NU_RANGE[1], low_open=True, high_open=True)
+    inv = (1.0 - nu * nu) / E
+    if E_s is not None:
+        E_s = check_real("E_s", E_s, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+        nu_s = check_real("nu_s", 0.0 if nu_s is None else nu_s, low=NU_RANGE[0],
+                          high=NU_RANGE[1], low_open=True, high_open=True)
+        inv += (1.0 - nu_s * nu_s) / E_s
+    elif nu_s is not None:
+        raise InputError("nu_s was given without E_s: give the slider's E_s too")
+    return 1.0 / inv
+
+
+def _load(P):
+    return check_real("P", P, low=0.0, high=1e9, low_open=True, unit="N")
+
+
+def _length(name, v):
+    return check_real(name, v, low=1e-12, high=1e3, unit="m")
+
+
+def _mu(mu):
+    return check_real("mu", mu, low=0.0, high=MU_MAX)
+
+
+def _nu(nu):
+    return check_real("nu", nu, low=NU_RANGE[0], high=NU_RANGE[1], low_open=True, high_open=True)
+
+
+def hertz_sphere(P, R, E_star) -> tuple[float, float]:
+    """Sphere on a flat: contact radius a = (3PR/4E*)^(1/3) (m) and p0 = 3P/(2 pi a^2) (Pa)."""
+    P, R = _load(P), _length("R", R)
+    E_star = check_real("E_star", E_star, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+    a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
+    return a, 3.0 * P / (2.0 * math.pi * a * a)
+
+
+def hertz_cylinder(P, L, R, E_star) -> tuple[float, float]:
+    """Cylinder (length L, total load P): half-width b = sqrt(4P'R/(pi E*)) (m), p0 = 2P'/(pi b)."""
+    P, L, R = _load(P), _length("L", L), _length("R", R)
+    E_star = check_real("E_star", E_star, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+    w = P / L
+    b = math.sqrt(4.0 * w * R / (math.pi * E_star))
+    return b, 2.0 * w / (math.pi * b)
+
+
+def _depth(z):
+    z = np.asarray(z, dtype=float)
+    if np.any(~np.isfinite(z)) or np.any(z < 0):
+        raise InputError("z must be finite depths >= 0 m into the half-space")
+    return z
+
+
+def cylinder_stresses(x, z, b, p0, mu, nu) -> dict[str, np.ndarray]:
+    """Plane-strain stresses (Pa) at (x, z) (m) under p = p0 sqrt(1-x^2/b^2), q = mu p in +x.
+
+    Returns sxx, szz, txz, syy = nu (sxx + szz), and the zero sxy, syz (tension positive).
+    """
+    b = _length("b", b)
+    p0 = check_real("p0", p0, low=0.0, high=1e14, unit="Pa")
+    mu, nu = _mu(mu), _nu(nu)
+    x = np.asarray(x, dtype=float)
+    z = _depth(z)
+    x, z = np.broadcast_arrays(x, z)
+    A = b * b - x * x + z * z
+    S = np.sqrt(A * A + 4.0 * x * x * z * z)
+    # Johnson eq 4.49, m^2 = (S + A)/2, n^2 = (S - A)/2, with m^2 n^2 = x^2 z^2 used for the
+    # smaller of the two so that neither loses digits far from the contact
+    big = 0.5 * (S + np.abs(A))
+    small = np.where(big > 0, x * x * z * z / np.where(big > 0, big, 1.0), 0.0)
+    m = np.sqrt(np.where(A >= 0, big, small))
+    n = np.sign(x) * np.sqrt(np.where(A >= 0, small, big))
+    D = m * m + n * n
+    edge = D == 0.0                                                      # x = +-b on z = 0
+    D = np.where(edge, 1.0, D)
+    f1 = (z * z + n * n) / D
+    f2 = (m * m - z * z) / D
+    k = p0 / b
+    q0 = mu * p0
+    sxx = -k * (m * (1.0 + f1) - 2.0 * z)                               # eq 4.50a
+    szz = -k * m * (1.0 - f1)                                           # eq 4.50b
+    txz = -k * n * f2                                                   # eq 4.50c
+    kq = q0 / b
+    sxx = sxx + kq * (n * (2.0 + f2) - 2.0 * x)                         # eq 7.18a, q in +x
+    szz = szz - kq * n * f2                                             # eq 7.18b
+    txz = txz - kq * (m * (1.0 + f1) - 2.0 * z)                         # eq 7.18c
+    # the edge point itself: the limit from the surface, where p = 0 and sxx = -2 q0 x/b
+    sxx = np.where(edge, -2.0 * q0 * np.sign(x), sxx)
+    szz = np.where(edge, 0.0, szz)
+    txz = np.where(edge, 0.0, txz)
+    zero = np.zeros_like(sxx)
+    return {"sxx": sxx, "syy": nu * (sxx + szz), "szz": szz,
+            "sxy": zero, "syz": zero, "txz": txz}
+
+
+def sphere_normal_stresses(x, y, z, a, p0, nu) -> dict[str, np.ndarray]:
+    """All six stresses (Pa) at (x, y, z) (m) under the Hertz pressure of a sphere (mu = 0).
+
+    Hamilton (1983) explicit equations for the normal load; near the axis (r < 2e-4 a, where the
+    1/r^2 terms lose digits) the Huber closed form (Johnson eq 3.45): error < 2e-7 p0 there.
+    """
+    a = _length("a", a)
+    p0 = check_real("p0", p0, low=0.0, high=1e14, unit="Pa")
+    nu = _nu(nu)
+    x, y, z = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), _depth(z))
+    x, y, z = x / a, y / a, z / a                          # work in units of a (a = 1)
+    r2 = x * x + y * y
+    axis = r2 < AXIS_R2                                      # cancellation in 1/r^2 terms
+    r2s = np.where(axis, 1.0, r2)
+    A = r2 + z * z - 1.0
+    S = np.sqrt(A * A + 4.0 * z * z)
+    edge = S < 1e-300                                       # r = a on the surface
+    S = np.where(edge, 1e-300, S)
+    M = np.sqrt(np.maximum(0.5 * (S + A), 0.0))
+    N = np.sqrt(np.maximum(0.5 * (S - A), 0.0))
+    phi = np.arctan2(1.0, M)
+    G = M * M - N * N + z * M - N
+    H = 2.0 * M * N + M + z * N
+    GH = np.where(G * G + H * H == 0.0, 1.0, G * G + H * H)
+    common = (1.0 - nu) * N * z * z - (1.0 - 2.0 * nu) / 3.0 * (N * S + 2.0 * A * N + 1.0) - nu * M * z
+    sxx = (1 + nu) * z * phi + ((y * y - x * x) / r2s * common - N * (x * x + 2 * nu * y * y)
+                                - M * x * x * z / S) / r2s
+    syy = (1 + nu) * z * phi + ((x * x - y * y) / r2s * common - N * (y * y + 2 * nu * x * x)
+                                - M * y * y * z / S) / r2s
+    szz = -N + z * M / S
+    sxy = (x * y * (1 - 2 * nu) / r2s ** 2 * (-N * r2 + 2.0 / 3.0 * N * (S + 2 * A)
+                                             - z * (z * N + M) + 2.0 / 3.0)
+           + x * y * z / r2s ** 2 * (-M * r2 / S - z * N + M))
+    sxz = -z * (x * N / S - x * z * H / GH)
+    syz = -z * (y * N / S - y * z * H / GH)
+    # on the axis: Huber
+    zs = np.where(z == 0.0, 1.0, z)
+    s_ax = np.where(z == 0.0, -(1 + 2 * nu) / 2.0,
+                    (1 + nu) * (z * np.arctan(1.0 / zs) - 1.0) + 0.5 / (1.0 + z * z))
+    sxx = np.where(axis, s_ax, sxx)
+    syy = np.where(axis, s_ax, syy)
+    szz = np.where(axis, -1.0 / (1.0 + z * z), szz)
+    sxy = np.where(axis, 0.0, sxy)
+    sxz = np.where(axis, 0.0, sxz)
+    syz = np.where(axis, 0.0, syz)
+    out = {"sxx": sxx, "syy": syy, "szz": szz, "sxy": sxy, "syz": syz, "txz": sxz}
+    return {k: p0 * v for k, v in out.items()}
+
+
+def _tensor(s) -> np.ndarray:
+    sxx, syy, szz = (np.asarray(s[k], float) for k in ("sxx", "syy", "szz"))
+    sxy, syz, sxz = (np.asarray(s[k], float) for k in ("sxy", "syz", "txz"))
+    sxx, syy, szz, sxy, syz, sxz = np.broadcast_arrays(sxx, syy, szz, sxy, syz, sxz)
+    T = np.empty(sxx.shape + (3, 3))
+    T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = sxx, syy, szz
+    T[..., 0, 1] = T[..., 1, 0] = sxy
+    T[..., 1, 2] = T[..., 2, 1] = syz
+    T[..., 0, 2] = T[..., 2, 0] = sxz
+    return T
+
+
+def principal_stresses(s) -> np.ndarray:
+    """Principal stresses (Pa), last axis ordered s1 >= s2 >= s3."""
+    return np.linalg.eigvalsh(_tensor(s))[..., ::-1]
+
+
+def max_shear(s) -> np.ndarray:
+    """Largest principal shear stress (s1 - s3)/2 (Pa) (Tresca)."""
+    p = principal_stresses(s)
+    return 0.5 * (p[..., 0] - p[..., 2])
+
+
+def von_mises(s) -> np.ndarray:
+    """Von Mises equivalent stress (Pa)."""
+    sxx, syy, szz = (np.asarray(s[k], float) for k in ("sxx", "syy", "szz"))
+    sxy, syz, sxz = (np.asarray(s[k], float) for k in ("sxy", "syz", "txz"))
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
+                   + 3.0 * (sxy ** 2 + syz ** 2 + sxz ** 2))
+
+
+@dataclass(frozen=True)
+class SlidingResult:
+    """What a user reads for one sliding contact; lengths in m, stresses in Pa."""
+
+    half_width: float          # a (sphere) or b (cylinder), m
+    p0: float                  # peak Hertz pressure, Pa
+    vm_max: float              # largest von Mises stress in the half-space, Pa
+    vm_x: float                # where it is, m
+    vm_z: float
+    yield_ratio: float | None  # vm_max / sigma_y (None without sigma_y)
+    tensile_max: float         # largest surface tensile stress (sigma_xx at x = -b), Pa
+    at_surface: bool           # the largest von Mises is on the surface
+
+
+def _cyl_vm(x, z, nu, mu):
+    return von_mises(cylinder_stresses(x, z, 1.0, 1.0, mu, nu))
+
+
+def _cyl_peaks(nu, mu, measure=_cyl_vm):
+    """(largest value at the surface, x) and (largest below the surface, x, z) in units b, p0."""
+    xs = np.linspace(-1.5, 1.5, 3001)
+    vs = measure(xs, 0.0, nu, mu)
+    i = int(np.argmax(vs))
+    res = optimize.minimize_scalar(lambda t: -measure(t, 0.0, nu, mu),
+                                   bounds=(xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]),
+                                   method="bounded", options={"xatol": 1e-12})
+    surf = (float(-res.fun), float(res.x))
+    X, Z = np.meshgrid(np.linspace(-1.2, 1.2, 121), np.linspace(Z_MIN, 1.2, 60))
+    V = measure(X, Z, nu, mu)
+    j = np.unravel_index(int(np.argmax(V)), V.shape)
+    fun = lambda v: -float(measure(v[0], v[1], nu, mu))         # noqa: E731
+    r = optimize.minimize(fun, [X[j], Z[j]], method="L-BFGS-B",
+                          bounds=[(-1.5, 1.5), (Z_MIN, 1.5)],
+                          options={"ftol": 1e-15, "gtol": 1e-11, "maxiter": 2000})
+    sub = (float(-r.fun), float(r.x[0]), float(r.x[1]))
+    return surf, sub
+
+
+def cylinder_sliding(P, L, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> SlidingResult:
+    """Sliding cylinder (radius R, length L, total load P) on a half-space (E, nu)."""
+    E_star = effective_modulus(E, nu, E_s, nu_s)
+    nu, mu = _nu(nu), _mu(mu)
+    b, p0 = hertz_cylinder(P, L, R, E_star)
+    if sigma_y is not None:
+        sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
+    (vs, xs), (vi, xi, zi) = _cyl_peaks(nu, mu)
+    surface = vs >= vi
+    vm, xm, zm = (vs, xs, 0.0) if surface else (vi, xi, zi)
+    return SlidingResult(b, p0, vm * p0, xm * b, zm * b,
+                         None if sigma_y is None else vm * p0 / sigma_y, 2.0 * mu * p0, surface)
+
+
+def sphere_normal_result(P, R, E, nu, sigma_y=None, E_s=None, nu_s=None) -> SlidingResult:
+    """Frictionless (mu = 0) sphere: the largest von Mises is on the axis (found there)."""
+    E_star = effective_modulus(E, nu, E_s, nu_s)
+    nu = _nu(nu)
+    a, p0 = hertz_sphere(P, R, E_star)
+    if sigma_y is not None:
+        sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
+    f = lambda t: -von_mises(sphere_normal_stresses(0.0, 0.0, t, 1.0, 1.0, nu))  # noqa: E731
+    r = optimize.minimize_scalar(f, bounds=(0.0, 3.0), method="bounded", options={"xatol": 1e-12})
+    vm = float(-r.fun)
+    return SlidingResult(a, p0, vm * p0, 0.0, float(r.x) * a,
+                         None if sigma_y is None else vm * p0 / sigma_y,
+                         (1.0 - 2.0 * nu) / 3.0 * p0, False)
+
+
+def cylinder_surface_yield_friction(nu, criterion="von_mises") -> float:
+    """Friction mu at which the largest von Mises (or Tresca) stress reaches the surface."""
+    nu = _nu(nu)
+    if criterion == "von_mises":
+        measure = _cyl_vm
+    elif criterion == "tresca":
+        def measure(x, z, nu_, mu_):
+            return max_shear(cylinder_stresses(x, z, 1.0, 1.0, mu_, nu_))
+    else:
+        raise InputError(f"criterion = {criterion!r} is not one of 'von_mises', 'tresca'")
+
+    def gap(mu):
+        (vs, _), (vi, _, _) = _cyl_peaks(nu, mu, measure)
+        return vs - vi
+
+    return float(optimize.brentq(gap, 0.05, 0.6, xtol=1e-6))

@@ -7,7 +7,10 @@ the second method of tests/continuum/test_sliding_homogeneous.py, evaluated on a
 subset (the check is the slow part and is not timed):
 - cylinder, McEwen closed forms (mu = 0.3) against quadrature of the Flamant kernels;
 - sphere, Hamilton's normal-load equations (mu = 0) against Gauss quadrature of the
-  Boussinesq point-load stresses over the Hertz pressure (subset at z >= 0.3 a).
+  Boussinesq point-load stresses over the Hertz pressure (subset at z >= 0.3 a);
+- sphere with friction (mu = 0.3), tangential part by quadrature of Cerruti's point-force
+  stresses (64 x 48 nodes a point) against a second quadrature centred on the disc (Gauss in
+  beta, r = sin beta; subset at z >= 0.2 a); the time is for the full field (normal + tangential).
 """
 
 from __future__ import annotations
@@ -83,6 +86,39 @@ def main():
         err = max(abs(float(s[c][i]) - v) for i in range(k)
                   for c, v in boussinesq(x[i], y[i], z[i], NU).items())
         print(f"{n:>9} | {'sphere Hamilton normal (mu = 0)':<34} | {dt:>9.4f} | {err:>14.2e}")
+    friction_rows(rng)
+
+
+def cerruti(x, y, z, nu, nb=160, nphi=320):
+    gb, wb = np.polynomial.legendre.leggauss(nb)
+    beta, wbeta = (gb + 1) * math.pi / 4, wb * math.pi / 4
+    phi = np.arange(nphi) * 2 * math.pi / nphi
+    B, F = np.meshgrid(beta, phi, indexing="ij")
+    r = np.sin(B)
+    dQ = np.cos(B) ** 2 * np.sin(B) * wbeta[:, None] * (2 * math.pi / nphi)
+    X, Y = x - r * np.cos(F), y - r * np.sin(F)
+    R = np.sqrt(X * X + Y * Y + z * z)
+    b, f = (1 - 2 * nu) / (R + z) ** 2, 1 / (2 * math.pi)
+    out = {"sxx": f * X / R ** 3 * (-3 * X * X / R ** 2 + b * (R * R - Y * Y - 2 * R * Y * Y / (R + z))),
+           "syy": f * X / R ** 3 * (-3 * Y * Y / R ** 2 + b * (3 * R * R - X * X - 2 * R * X * X / (R + z))),
+           "szz": -3 * f * X * z * z / R ** 5,
+           "sxy": f * Y / R ** 3 * (-3 * X * X / R ** 2 + b * (-R * R + X * X + 2 * R * X * X / (R + z))),
+           "syz": -3 * f * X * Y * z / R ** 5, "txz": -3 * f * X * X * z / R ** 5}
+    return {k: float(np.sum(v * dQ)) for k, v in out.items()}
+
+
+def friction_rows(rng):
+    for n in (10**2, 10**4, 10**5):
+        x, y = rng.uniform(-2, 2, n), rng.uniform(-2, 2, n)
+        z = rng.uniform(0.2, 2.0, n)
+        t = time.perf_counter()
+        s = sl.sphere_stresses(x, y, z, 1.0, 1.0, MU, NU)
+        dt = time.perf_counter() - t
+        k = min(n, 200)
+        err = max(abs(float(s[c][i]) - (MU * v + b[c])) for i in range(k)
+                  for b in (boussinesq(x[i], y[i], z[i], NU),)
+                  for c, v in cerruti(x[i], y[i], z[i], NU).items())
+        print(f"{n:>9} | {'sphere with friction (mu = 0.3)':<34} | {dt:>9.4f} | {err:>14.2e}")
 
 
 if __name__ == "__main__":

@@ -17,7 +17,8 @@ Sources
 * Sphere, normal Hertz pressure only (mu = 0): Hamilton (1983), Proc. IMechE 197C 53-59,
   explicit equations for the normal load (also Hamilton & Goodman 1966), with the axis limit
   r -> 0 of Huber (1904) / Johnson eq 3.45. Hamilton's equations for the tangential traction
-  were not obtained from a reliable source, so the sphere with friction is NOT built here.
+  were not obtained from a reliable source: the tangential part (sphere with friction) is the
+  numerical integral of Cerruti's point-force stresses (Johnson 1985 eq 3.87) over the traction.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ __all__ = [
     "effective_modulus", "hertz_sphere", "hertz_cylinder", "cylinder_stresses",
     "sphere_normal_stresses", "principal_stresses", "von_mises", "max_shear",
     "SlidingResult", "cylinder_sliding", "sphere_normal_result", "cylinder_surface_yield_friction",
+    "sphere_tangential_stresses", "sphere_stresses", "sphere_sliding", "sphere_surface_yield_friction",
 ]
 
 MODULUS_RANGE = (1e6, 1e14)     # Pa
@@ -161,8 +163,11 @@ def sphere_normal_stresses(x, y, z, a, p0, nu) -> dict[str, np.ndarray]:
     S = np.sqrt(A * A + 4.0 * z * z)
     edge = S < 1e-300                                       # r = a on the surface
     S = np.where(edge, 1e-300, S)
-    M = np.sqrt(np.maximum(0.5 * (S + A), 0.0))
-    N = np.sqrt(np.maximum(0.5 * (S - A), 0.0))
+    # M^2 N^2 = z^2 gives the smaller of M, N without cancellation far from the contact
+    big = 0.5 * (S + np.abs(A))
+    small = np.where(big > 0, z * z / np.where(big > 0, big, 1.0), 0.0)
+    M = np.sqrt(np.where(A >= 0, big, small))
+    N = np.sqrt(np.where(A >= 0, small, big))
     phi = np.arctan2(1.0, M)
     G = M * M - N * N + z * M - N
     H = 2.0 * M * N + M + z * N
@@ -235,6 +240,7 @@ class SlidingResult:
     yield_ratio: float | None  # vm_max / sigma_y (None without sigma_y)
     tensile_max: float         # largest surface tensile stress (sigma_xx at x = -b), Pa
     at_surface: bool           # the largest von Mises is on the surface
+    vm_y: float = 0.0          # across the sliding direction (sphere), m
 
 
 def _cyl_vm(x, z, nu, mu):
@@ -306,3 +312,199 @@ def cylinder_surface_yield_friction(nu, criterion="von_mises") -> float:
         return vs - vi
 
     return float(optimize.brentq(gap, 0.05, 0.6, xtol=1e-6))
+
+
+# ------------------------------------------------------------------ sphere with friction
+# The field of the tangential traction q = mu p0 sqrt(1 - r^2/a^2) in +x is the integral of
+# Cerruti's point-force stresses over the Hertz circle. Kernel: Johnson (1985) eq 3.87a-f (a
+# force Q = 1 in +x on the surface, at depth z and in-plane offset (X, Y) = field - source); it
+# was checked in development against the stresses from Johnson's Cerruti displacements (eq 3.86)
+# by finite differences (agreement 1e-9). Hamilton's (1983) explicit equations for this part
+# were not obtained from a reliable source, so the integral is evaluated numerically.
+#: quadrature sizes (angle about the point's projection, and along each ray)
+SPH_N_THETA, SPH_N_RAY = 64, 48
+
+
+def _cerruti(X, Y, z, nu):
+    """Johnson (1985) eq 3.87: stresses per unit tangential point force in +x (tension +)."""
+    R2 = X * X + Y * Y + z * z
+    R = np.sqrt(R2)
+    k = 1.0 / (2.0 * math.pi * R2 * R)
+    c = (1.0 - 2.0 * nu) / (R + z) ** 2
+    w = 2.0 * R / (R + z)
+    return {"sxx": k * X * (-3.0 * X * X / R2 + c * (R2 - Y * Y * (1.0 + w))),
+            "syy": k * X * (-3.0 * Y * Y / R2 + c * (3.0 * R2 - X * X * (1.0 + w))),
+            "szz": -3.0 * k * X * z * z / R2,
+            "sxy": k * Y * (-3.0 * X * X / R2 + c * (X * X * (1.0 + w) - R2)),
+            "syz": -3.0 * k * X * Y * z / R2,
+            "txz": -3.0 * k * X * X * z / R2}
+
+
+def _theta_nodes(x, y, n):
+    """Angles about (x, y) covering the unit disc, and their weights, shape (npts, n).
+
+    Inside the disc: the full circle, trapezoid rule (periodic integrand). Outside: the cone of
+    half-angle asin(1/r) towards the centre, Gauss-Legendre (the integrand is smooth in it)."""
+    r = np.hypot(x, y)
+    inside = r < 1.0
+    t, w = np.polynomial.legendre.leggauss(n)
+    alpha = np.arcsin(np.minimum(1.0, 1.0 / np.where(inside, 1.0, r)))[:, None]
+    tc = np.arctan2(-y, -x)[:, None]
+    th = np.where(inside[:, None], 2.0 * math.pi * np.arange(n) / n, tc + alpha * t)
+    wt = np.where(inside[:, None], 2.0 * math.pi / n, alpha * w)
+    return th, wt
+
+
+def _tangential_sub(x, y, z, nu, n_theta, n_ray):
+    """Tangential-traction stresses (units q0 = 1, a = 1) at points with z > 0 (1-D arrays).
+
+    Polar coordinates centred on the point's projection; along each ray rho = z sinh(u) removes
+    the 1/rho^2 peak of the kernel (rho drho / (rho^2 + z^2) = tanh(u) du), and a sine map in u
+    absorbs the square-root ends of q on the rim."""
+    th, wt = _theta_nodes(x, y, n_theta)
+    ct, st = np.cos(th), np.sin(th)
+    c = -(x[:, None] * ct + y[:, None] * st)                 # chord centre along the ray
+    h2 = c * c - (x * x + y * y)[:, None] + 1.0
+    h = np.sqrt(np.maximum(h2, 0.0))
+    zz = z[:, None]
+    r1 = np.maximum(c - h, 0.0)
+    r2 = np.maximum(c + h, 0.0)
+    u1, u2 = np.arcsinh(r1 / zz), np.arcsinh(r2 / zz)
+    s, ws = np.polynomial.legendre.leggauss(n_ray)
+    phi = 0.5 * math.pi * s
+    um, hu = 0.5 * (u1 + u2), 0.5 * (u2 - u1)
+    u = um[..., None] + hu[..., None] * np.sin(phi)
+    rho = zz[..., None] * np.sinh(u)
+    q = np.sqrt(np.maximum(h2[..., None] - (rho - c[..., None]) ** 2, 0.0))
+    jac = (hu[..., None] * np.cos(phi) * (0.5 * math.pi) * ws) * zz[..., None] * np.cosh(u) * rho
+    wgt = q * jac * wt[..., None]
+    K = _cerruti(-rho * ct[..., None], -rho * st[..., None], zz[..., None], nu)
+    return {k: np.sum(v * wgt, axis=(1, 2)) for k, v in K.items()}
+
+
+def _tangential_surface(x, y, nu, n=64):
+    """Tangential-traction stresses on z = 0 (units q0 = 1, a = 1), 1-D arrays.
+
+    On the surface the kernel is g(theta)/rho^2 with g odd, so along each line through the point
+    the radial integral is the finite Hilbert transform of the semi-ellipse q, in closed form:
+    PV int q/rho drho = pi (c - sign(c) sqrt(r^2 - 1)) (the root only outside the disc), where c
+    is the chord's centre. Plus the local value txz = -q (the traction itself)."""
+    r2 = x * x + y * y
+    inside = r2 < 1.0
+    th_c, wt_c = _theta_nodes(x, y, n)
+    th = np.where(inside[:, None], th_c / 2.0, th_c)          # a line covers theta and theta + pi
+    wt = np.where(inside[:, None], wt_c / 2.0, wt_c)
+    ct, st = np.cos(th), np.sin(th)
+    c = -(x[:, None] * ct + y[:, None] * st)
+    h2 = c * c - r2[:, None] + 1.0
+    J = math.pi * (c - np.sign(c) * np.sqrt(np.maximum(r2 - 1.0, 0.0))[:, None])
+    J = np.where(h2 > 0.0, J, 0.0)
+    K = _cerruti(-ct, -st, np.zeros_like(ct), nu)
+    out = {k: np.sum(v * J * wt, axis=1) for k, v in K.items()}
+    out["szz"] = np.zeros_like(x)
+    out["syz"] = np.zeros_like(x)
+    out["txz"] = -np.sqrt(np.maximum(1.0 - r2, 0.0))
+    return out
+
+
+def sphere_tangential_stresses(x, y, z, a, q0, nu, n_theta=SPH_N_THETA, n_ray=SPH_N_RAY,
+                               chunk=256) -> dict[str, np.ndarray]:
+    """All six stresses (Pa) under the traction q = q0 sqrt(1 - r^2/a^2) in +x on the circle r < a.
+
+    Numerical integration of Cerruti's point-force stresses (see `_tangential_sub`); on z = 0 a
+    closed-form radial integral (`_tangential_surface`). Accuracy: see docs/sliding.md."""
+    a = _length("a", a)
+    q0 = check_real("q0", q0, low=0.0, high=1e14, unit="Pa")
+    nu = _nu(nu)
+    x, y, z = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), _depth(z))
+    shape = x.shape
+    xf, yf, zf = (v.ravel() / a for v in (x, y, z))
+    out = {k: np.zeros(xf.size) for k in ("sxx", "syy", "szz", "sxy", "syz", "txz")}
+    surf = zf == 0.0
+    if np.any(surf):
+        s = _tangential_surface(xf[surf], yf[surf], nu)
+        for k in out:
+            out[k][surf] = s[k]
+    idx = np.flatnonzero(~surf)
+    for i in range(0, idx.size, chunk):
+        j = idx[i:i + chunk]
+        s = _tangential_sub(xf[j], yf[j], zf[j], nu, n_theta, n_ray)
+        for k in out:
+            out[k][j] = s[k]
+    return {k: q0 * v.reshape(shape) for k, v in out.items()}
+
+
+def sphere_stresses(x, y, z, a, p0, mu, nu) -> dict[str, np.ndarray]:
+    """All six stresses (Pa) under a sliding sphere: Hertz pressure plus q = mu p in +x.
+
+    mu = 0 returns `sphere_normal_stresses` exactly."""
+    mu = _mu(mu)
+    s = sphere_normal_stresses(x, y, z, a, p0, nu)
+    if mu == 0.0:
+        return s
+    t = sphere_tangential_stresses(x, y, z, a, mu * p0, nu)
+    return {k: s[k] + t[k] for k in s}
+
+
+def _sph_measure(criterion):
+    if criterion == "von_mises":
+        return von_mises
+    if criterion == "tresca":
+        return max_shear
+    raise InputError(f"criterion = {criterion!r} is not one of 'von_mises', 'tresca'")
+
+
+def _sph_peaks(nu, mu, measure=von_mises):
+    """(largest value on z = 0, x, y) and (largest below, x, y, z), units a and p0; y >= 0 by
+    the symmetry y -> -y. A grid search, then Nelder-Mead from its best point."""
+    def f(v, z=None):
+        zz = v[2] if z is None else z
+        if zz < 0 or abs(v[0]) > 1.6 or not 0 <= v[1] <= 1.6 or (z is None and zz < Z_MIN):
+            return 1e3
+        return -float(measure(sphere_stresses(v[0], v[1], zz, 1.0, 1.0, mu, nu)))
+
+    X, Y = np.meshgrid(np.linspace(-1.5, 1.5, 61), np.linspace(0.0, 1.2, 25))
+    V = measure(sphere_stresses(X, Y, 0.0, 1.0, 1.0, mu, nu))
+    j = np.unravel_index(int(np.argmax(V)), V.shape)
+    opts = {"xatol": 1e-7, "fatol": 1e-12, "maxiter": 4000}
+    r = optimize.minimize(lambda v: f(v, 0.0), [X[j], Y[j]], method="Nelder-Mead", options=opts)
+    surf = (float(-r.fun), float(r.x[0]), float(abs(r.x[1])))
+    X, Y, Z = np.meshgrid(np.linspace(-1.2, 1.2, 25), np.linspace(0.0, 1.0, 6),
+                          np.linspace(Z_MIN, 1.0, 23), indexing="ij")
+    V = measure(sphere_stresses(X, Y, Z, 1.0, 1.0, mu, nu))
+    j = np.unravel_index(int(np.argmax(V)), V.shape)
+    r = optimize.minimize(f, [X[j], Y[j], Z[j]], method="Nelder-Mead", options=opts)
+    sub = (float(-r.fun), float(r.x[0]), float(abs(r.x[1])), float(r.x[2]))
+    return surf, sub
+
+
+def sphere_sliding(P, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> SlidingResult:
+    """Sliding sphere (radius R, load P, friction mu) on a half-space (E, nu).
+
+    tensile_max is the surface sigma_xx at the trailing edge (x = -a, y = 0), the largest
+    surface tension: p0 ((1 - 2nu)/3 + (4 + nu) pi mu / 8) (Hamilton 1983)."""
+    E_star = effective_modulus(E, nu, E_s, nu_s)
+    nu, mu = _nu(nu), _mu(mu)
+    a, p0 = hertz_sphere(P, R, E_star)
+    if sigma_y is not None:
+        sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
+    (vs, xs, ys), (vi, xi, yi, zi) = _sph_peaks(nu, mu)
+    surface = vs >= vi
+    vm, xm, ym, zm = (vs, xs, ys, 0.0) if surface else (vi, xi, yi, zi)
+    tens = float(sphere_stresses(-1.0, 0.0, 0.0, 1.0, 1.0, mu, nu)["sxx"])
+    return SlidingResult(a, p0, vm * p0, xm * a, zm * a,
+                         None if sigma_y is None else vm * p0 / sigma_y, tens * p0, surface,
+                         ym * a)
+
+
+def sphere_surface_yield_friction(nu, criterion="von_mises") -> float:
+    """Friction mu at which the largest von Mises (or Tresca) stress of a sliding sphere moves
+    to the surface."""
+    nu = _nu(nu)
+    measure = _sph_measure(criterion)
+
+    def gap(mu):
+        (vs, _, _), (vi, _, _, _) = _sph_peaks(nu, mu, measure)
+        return vs - vi
+
+    return float(optimize.brentq(gap, 0.1, 0.6, xtol=1e-5))

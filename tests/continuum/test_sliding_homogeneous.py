@@ -276,3 +276,174 @@ def test_sphere_result_and_hertz():
 def test_input_checks(call, name):
     with pytest.raises(InputError, match=rf"^{name}\b"):
         call()
+
+
+# --------------------------------------------------------------- sphere with friction (mu > 0)
+def cerruti_u(X, Y, z, nu, G=1.0):
+    """Johnson (1985) eq 3.86: surface point force 1 in +x, displacements."""
+    r = math.sqrt(X * X + Y * Y + z * z)
+    c = 1 / (4 * math.pi * G)
+    return np.array([c * (1 / r + X * X / r ** 3 + (1 - 2 * nu) * (1 / (r + z) - X * X / (r * (r + z) ** 2))),
+                     c * (X * Y / r ** 3 - (1 - 2 * nu) * X * Y / (r * (r + z) ** 2)),
+                     c * (X * z / r ** 3 + (1 - 2 * nu) * X / (r * (r + z)))])
+
+
+def cerruti_sigma(X, Y, z, nu):
+    """Cerruti stresses (Johnson 1985 eq 3.87), written out term by term (numpy arrays)."""
+    rho = np.sqrt(X ** 2 + Y ** 2 + z ** 2)
+    b = (1 - 2 * nu) / (rho + z) ** 2
+    f = 1 / (2 * math.pi)
+    sx = f * X / rho ** 3 * (-3 * X ** 2 / rho ** 2 + b * (rho ** 2 - Y ** 2 - 2 * rho * Y ** 2 / (rho + z)))
+    sy = f * X / rho ** 3 * (-3 * Y ** 2 / rho ** 2 + b * (3 * rho ** 2 - X ** 2 - 2 * rho * X ** 2 / (rho + z)))
+    txy = f * Y / rho ** 3 * (-3 * X ** 2 / rho ** 2 + b * (-rho ** 2 + X ** 2 + 2 * rho * X ** 2 / (rho + z)))
+    return {"sxx": sx, "syy": sy, "szz": -3 * f * X * z ** 2 / rho ** 5, "sxy": txy,
+            "syz": -3 * f * X * Y * z / rho ** 5, "txz": -3 * f * X ** 2 * z / rho ** 5}
+
+
+def test_cerruti_oracle_kernel_against_its_displacements():
+    """The test's kernel is Hooke's law applied to eq 3.86 (central differences)."""
+    G = 1.0
+    lam = 2 * G * NU / (1 - 2 * NU)
+    for p in [(0.3, 0.5, 0.7), (-1.1, 0.2, 0.3), (0.4, -0.9, 0.25)]:
+        g = np.zeros((3, 3))
+        for j in range(3):
+            d = np.zeros(3)
+            d[j] = 1e-5
+            g[:, j] = (cerruti_u(*(np.array(p) + d), NU) - cerruti_u(*(np.array(p) - d), NU)) / 2e-5
+        e = 0.5 * (g + g.T)
+        s = lam * np.trace(e) * np.eye(3) + 2 * G * e
+        k = cerruti_sigma(*p, NU)
+        ref = {"sxx": s[0, 0], "syy": s[1, 1], "szz": s[2, 2], "sxy": s[0, 1], "syz": s[1, 2],
+               "txz": s[0, 2]}
+        for c in ref:
+            assert float(k[c]) == pytest.approx(ref[c], abs=1e-8), c
+
+
+def cerruti_disc(x, y, z, nu, nb=160, nphi=320):
+    """Cerruti stresses summed over q = sqrt(1 - r^2) in +x on the unit disc, r = sin(beta)
+    (Gauss-Legendre in beta, trapezoid in the angle about the disc centre): units q0, a."""
+    gb, wb = np.polynomial.legendre.leggauss(nb)
+    beta, wbeta = (gb + 1) * math.pi / 4, wb * math.pi / 4
+    phi = np.arange(nphi) * 2 * math.pi / nphi
+    B, F = np.meshgrid(beta, phi, indexing="ij")
+    r = np.sin(B)
+    dQ = np.cos(B) ** 2 * np.sin(B) * wbeta[:, None] * (2 * math.pi / nphi)
+    k = cerruti_sigma(x - r * np.cos(F), y - r * np.sin(F), z, nu)
+    return {c: float(np.sum(v * dQ)) for c, v in k.items()}
+
+
+def test_sphere_tangential_against_cerruti_quadrature_200_points():
+    rng = np.random.default_rng(341)
+    n = 200
+    x, y, z = rng.uniform(-2, 2, n), rng.uniform(-2, 2, n), rng.uniform(0.2, 2.0, n)
+    s = sl.sphere_tangential_stresses(x, y, z, 1.0, 1.0, NU)
+    err = max(abs(float(s[c][i]) - v) for i in range(n)
+              for c, v in cerruti_disc(x[i], y[i], z[i], NU).items())
+    assert err < 1e-6
+    # and the full field (normal + tangential, mu = 0.3) at a few points, in SI units
+    a, p0, mu = 2e-4, 1.5e9, 0.3
+    full = sl.sphere_stresses(x[:5] * a, y[:5] * a, z[:5] * a, a, p0, mu, NU)
+    for i in range(5):
+        t = cerruti_disc(x[i], y[i], z[i], NU)
+        nrm = boussinesq_disc(x[i], y[i], z[i], NU)
+        for c in t:
+            assert float(full[c][i]) == pytest.approx(p0 * (nrm[c] + mu * t[c]), abs=1e-6 * p0)
+
+
+def test_sphere_surface_closed_forms():
+    """Johnson (1985) eq 3.91 gives the surface displacements inside the circle under
+    q = q0 sqrt(1 - r^2/a^2): u_x = pi q0/(32 G a) (4(2-nu)a^2 - (4-3nu)x^2 - (4-nu)y^2),
+    u_y = pi q0/(32 G a) 2 nu x y; with sigma_zz = 0 on the surface, Hooke's law gives
+    sigma_x = -(4+nu) pi q0 x/(8a), sigma_y = -3 nu pi q0 x/(8a), tau_xy = -(2-nu) pi q0 y/(8a).
+    At x = -a this is Hamilton's (1983) trailing-edge tension (4+nu) pi mu p0/8 (third check)."""
+    rng = np.random.default_rng(7)
+    r, t = np.sqrt(rng.uniform(0, 0.98, 40)), rng.uniform(0, 2 * math.pi, 40)
+    x, y = r * np.cos(t), r * np.sin(t)
+    s = sl.sphere_tangential_stresses(x, y, 0.0, 1.0, 1.0, NU)
+    np.testing.assert_allclose(s["sxx"], -(4 + NU) * math.pi * x / 8, atol=1e-12)
+    np.testing.assert_allclose(s["syy"], -3 * NU * math.pi * x / 8, atol=1e-12)
+    np.testing.assert_allclose(s["sxy"], -(2 - NU) * math.pi * y / 8, atol=1e-12)
+    np.testing.assert_allclose(s["txz"], -np.sqrt(1 - x * x - y * y), atol=1e-15)
+    for mu in (0.1, 0.3, 0.6):
+        e = sl.sphere_stresses(-1.0, 0.0, 0.0, 1.0, 1.0, mu, NU)
+        ref = (1 - 2 * NU) / 3 + (4 + NU) * math.pi * mu / 8
+        assert float(e["sxx"]) == pytest.approx(ref, rel=1e-6)
+        # continuous across the rim and the largest surface sigma_x
+        for dx in (-1e-4, 1e-4):
+            assert float(sl.sphere_stresses(-1.0 + dx, 0.0, 0.0, 1.0, 1.0, mu, NU)["sxx"]) < ref
+    # the surface values are the z -> 0 limit of the subsurface quadrature
+    for p in [(-0.5, 0.3), (0.7, -0.2), (1.4, 0.5)]:
+        s0 = sl.sphere_tangential_stresses(*p, 0.0, 1.0, 1.0, NU)
+        s1 = sl.sphere_tangential_stresses(*p, 1e-7, 1.0, 1.0, NU)
+        for c in s0:
+            assert float(s1[c]) == pytest.approx(float(s0[c]), abs=1e-5), c
+
+
+def test_sphere_friction_equilibrium_resultant():
+    """Across the plane z = 0.5 a the stresses carry (mu P, 0, P), P = 2 pi a^2 p0 / 3
+    (signs as for the cylinder: the traction of the lower part on the slab above is -)."""
+    mu, z = 0.4, 0.5
+    P = 2 * math.pi / 3
+    gt, wt = np.polynomial.legendre.leggauss(160)
+    t = (gt + 1) * math.pi / 4                      # rho = z tan(t), t in (0, pi/2)
+    rho, wr = z * np.tan(t), wt * math.pi / 4 * z / np.cos(t) ** 2
+    nphi = 48
+    phi = np.arange(nphi) * 2 * math.pi / nphi
+    Rr, Ff = np.meshgrid(rho, phi, indexing="ij")
+    s = sl.sphere_stresses(Rr * np.cos(Ff), Rr * np.sin(Ff), z, 1.0, 1.0, mu, NU)
+    dA = (wr * rho)[:, None] * (2 * math.pi / nphi)
+    fz, fx, fy = (float(np.sum(s[c] * dA)) for c in ("szz", "txz", "syz"))
+    assert fz == pytest.approx(-P, rel=1e-6)
+    assert fx == pytest.approx(-mu * P, rel=1e-6)
+    assert abs(fy) < 1e-9
+
+
+def test_sphere_friction_zero_is_frictionless_field():
+    rng = np.random.default_rng(3)
+    x, y, z = rng.uniform(-2, 2, 50), rng.uniform(-2, 2, 50), rng.uniform(0, 2, 50)
+    z[:5] = 0.0
+    a = sl.sphere_stresses(x, y, z, 1e-4, 1e9, 0.0, NU)
+    b = sl.sphere_normal_stresses(x, y, z, 1e-4, 1e9, NU)
+    for c in b:
+        assert np.array_equal(a[c], b[c])
+
+
+def test_sphere_first_yield_friction():
+    """Hamilton (1983), Johnson (1985) section 7.2: for nu = 0.3 the largest sqrt(3 J2) (von
+    Mises, the measure Hamilton plots) moves to the trailing edge at mu ~ 0.3. Measured here:
+    von Mises 0.3047 (within 0.01 of 0.3); max shear (Tresca) 0.2879, asserted to its own value."""
+    mu_vm = sl.sphere_surface_yield_friction(NU)
+    assert abs(mu_vm - 0.3) < 0.01
+    assert mu_vm == pytest.approx(0.3047, abs=5e-4)
+    mu_t = sl.sphere_surface_yield_friction(NU, "tresca")
+    assert mu_t == pytest.approx(0.2879, abs=5e-4)
+    below = sl.sphere_sliding(10.0, 1e-3, 200e9, NU, mu_vm - 0.02, sigma_y=2e9)
+    above = sl.sphere_sliding(10.0, 1e-3, 200e9, NU, mu_vm + 0.02, sigma_y=2e9)
+    assert not below.at_surface and below.vm_z > 0.3 * below.half_width
+    assert abs(below.vm_y) < 1e-4 * below.half_width
+    assert above.at_surface and above.vm_z == 0.0
+    assert above.vm_x == pytest.approx(-above.half_width, rel=1e-6)
+
+
+def test_sphere_sliding_result_units():
+    E, P, R, mu = 200e9, 10.0, 1e-3, 0.2
+    res = sl.sphere_sliding(P, R, E, NU, mu, sigma_y=2e9)
+    a, p0 = sl.hertz_sphere(P, R, sl.effective_modulus(E, NU))
+    assert res.half_width == pytest.approx(a, rel=1e-12) and res.p0 == pytest.approx(p0, rel=1e-12)
+    assert res.tensile_max == pytest.approx(p0 * ((1 - 2 * NU) / 3 + (4 + NU) * math.pi * mu / 8),
+                                            rel=1e-6)
+    assert res.yield_ratio == pytest.approx(res.vm_max / 2e9)
+    s = sl.sphere_stresses(res.vm_x, res.vm_y, res.vm_z, a, p0, mu, NU)
+    assert float(sl.von_mises(s)) == pytest.approx(res.vm_max, rel=1e-9)
+    assert res.vm_x > 0 and res.vm_max > sl.sphere_normal_result(P, R, E, NU).vm_max
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda: sl.sphere_stresses(0.0, 0.0, 0.5, 1.0, 1.0, -0.1, NU), "mu"),
+    (lambda: sl.sphere_stresses(0.0, 0.0, -0.5, 1.0, 1.0, 0.1, NU), "z"),
+    (lambda: sl.sphere_sliding(10.0, 1e-3, 200e9, 0.3, 0.2, sigma_y=0.0), "sigma_y"),
+    (lambda: sl.sphere_surface_yield_friction(0.3, "rankine"), "criterion"),
+])
+def test_sphere_friction_input_checks(call, name):
+    with pytest.raises(InputError, match=rf"^{name}\b"):
+        call()

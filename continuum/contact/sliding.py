@@ -314,6 +314,39 @@ def cylinder_surface_yield_friction(nu, criterion="von_mises") -> float:
     return float(optimize.brentq(gap, 0.05, 0.6, xtol=1e-6))
 
 
+def _melan_feasible(load: float, d: np.ndarray, t: np.ndarray) -> bool:
+    """Whether, at ``load`` = p0/k, each depth (row) admits a residual stress rho(z) with
+    |d + rho/2| <= sqrt(1 - t^2) at every x of the row (d = (sxx - szz)/(2 p0), t = txz/p0 in
+    units of k once scaled by ``load``)."""
+    tau = load * t
+    if np.any(np.abs(tau) > 1.0):
+        return False
+    slack = np.sqrt(1.0 - tau * tau)
+    half = load * d
+    return bool(np.all(np.max(half - slack, axis=1) <= np.min(half + slack, axis=1)))
+
+
+def cylinder_shakedown_pressure(mu, nu=0.3, grid: int = 801) -> float:
+    """p0/k of the elastic shakedown limit of a cylinder sliding repeatedly on a homogeneous
+    half-space in plane strain (Johnson 1985 section 9.2; Johnson & Jefferis 1963): the largest
+    p0 for which Melan's theorem finds a steady residual stress rho_xx(z), independent of x,
+    that keeps the in-plane Tresca stress ((sxx + rho - szz)/2)^2 + txz^2 within k^2 everywhere.
+    k is the yield stress in shear (sigma_y / sqrt(3) by von Mises, sigma_y / 2 by Tresca).
+    Found by bisection to 1e-6 on a (x, z) grid of ``grid`` x ``grid // 4`` points over
+    |x| <= 4 b, 0 <= z <= 2 b."""
+    mu, nu = _mu(mu), _nu(nu)
+    x = np.linspace(-4.0, 4.0, int(grid))
+    z = np.linspace(0.0, 2.0, max(int(grid) // 4, 50))
+    X, Z = np.meshgrid(x, z)
+    s = cylinder_stresses(X, Z, 1.0, 1.0, mu, nu)
+    d, t = 0.5 * (s["sxx"] - s["szz"]), s["txz"]
+    low, high = 0.0, 1.0 / max(float(np.max(np.abs(t))), 1e-12)
+    while high - low > 1e-6 * high:
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if _melan_feasible(mid, d, t) else (low, mid)
+    return low
+
+
 # ------------------------------------------------------------------ sphere with friction
 # The field of the tangential traction q = mu p0 sqrt(1 - r^2/a^2) in +x is the integral of
 # Cerruti's point-force stresses over the Hertz circle. Kernel: Johnson (1985) eq 3.87a-f (a

@@ -447,3 +447,37 @@ def test_sphere_sliding_result_units():
 def test_sphere_friction_input_checks(call, name):
     with pytest.raises(InputError, match=rf"^{name}\b"):
         call()
+
+
+# ------------------------------------------------------------------ shakedown (line contact)
+# Johnson (1985) section 9.2 and Johnson & Jefferis (1963): a sliding line contact shakes
+# down elastically up to p0 = 4.0 k without friction (the largest orthogonal shear stress is
+# 0.25 p0); with friction the limit falls, and from mu = 0.367 the surface governs, where
+# txz = -mu p0 at x = 0: p0 = k / mu.
+
+
+def test_shakedown_without_friction_is_four_k():
+    from filmscale.continuum.contact.sliding import cylinder_shakedown_pressure
+    assert cylinder_shakedown_pressure(0.0) == pytest.approx(4.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("mu", [0.4, 0.5, 1.0])
+def test_shakedown_above_the_transition_is_k_over_mu(mu):
+    from filmscale.continuum.contact.sliding import cylinder_shakedown_pressure
+    assert cylinder_shakedown_pressure(mu) == pytest.approx(1.0 / mu, rel=1e-4)
+
+
+def test_shakedown_transition_friction_is_0367():
+    from filmscale.continuum.contact.sliding import cylinder_shakedown_pressure
+    mus = np.linspace(0.30, 0.45, 31)
+    surface = [abs(cylinder_shakedown_pressure(m) * m - 1.0) < 1e-4 for m in mus]
+    first = mus[int(np.argmax(surface))]
+    assert first == pytest.approx(0.367, abs=0.005 + 1e-9)
+    below = [cylinder_shakedown_pressure(m) for m in (0.0, 0.1, 0.2, 0.3)]
+    assert all(a > b for a, b in zip(below, below[1:]))      # friction lowers the limit
+
+
+def test_shakedown_refuses_a_negative_friction():
+    from filmscale.continuum.contact.sliding import cylinder_shakedown_pressure
+    with pytest.raises(InputError, match="mu"):
+        cylinder_shakedown_pressure(-0.1)

@@ -16,12 +16,17 @@ subset (the check is the slow part and is not timed):
 from __future__ import annotations
 
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy import integrate
 
 from filmscale.continuum.contact import sliding as sl
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))    # the tests' disc quadrature
+from tests.helpers.hertz_disc import hertz_disc_nodes  # noqa: E402
 
 NU, MU = 0.3, 0.3
 
@@ -44,13 +49,8 @@ def flamant(x, z, mu):
 
 
 def boussinesq(x, y, z, nu, nb=160, nphi=320):
-    gb, wb = np.polynomial.legendre.leggauss(nb)
-    beta, wbeta = (gb + 1) * math.pi / 4, wb * math.pi / 4
-    phi = np.arange(nphi) * 2 * math.pi / nphi
-    B, F = np.meshgrid(beta, phi, indexing="ij")
-    r = np.sin(B)
-    dP = np.cos(B) ** 2 * np.sin(B) * wbeta[:, None] * (2 * math.pi / nphi)
-    dx, dy = x - r * np.cos(F), y - r * np.sin(F)
+    xs, ys, dP = hertz_disc_nodes(nb, nphi)
+    dx, dy = x - xs, y - ys
     R2 = dx * dx + dy * dy
     rho = np.sqrt(R2 + z * z)
     sr = ((1 - 2 * nu) / R2 * (1 - z / rho) - 3 * z * R2 / rho ** 5) / (2 * math.pi)
@@ -90,13 +90,8 @@ def main():
 
 
 def cerruti(x, y, z, nu, nb=160, nphi=320):
-    gb, wb = np.polynomial.legendre.leggauss(nb)
-    beta, wbeta = (gb + 1) * math.pi / 4, wb * math.pi / 4
-    phi = np.arange(nphi) * 2 * math.pi / nphi
-    B, F = np.meshgrid(beta, phi, indexing="ij")
-    r = np.sin(B)
-    dQ = np.cos(B) ** 2 * np.sin(B) * wbeta[:, None] * (2 * math.pi / nphi)
-    X, Y = x - r * np.cos(F), y - r * np.sin(F)
+    xs, ys, dQ = hertz_disc_nodes(nb, nphi)
+    X, Y = x - xs, y - ys
     R = np.sqrt(X * X + Y * Y + z * z)
     b, f = (1 - 2 * nu) / (R + z) ** 2, 1 / (2 * math.pi)
     out = {"sxx": f * X / R ** 3 * (-3 * X * X / R ** 2 + b * (R * R - Y * Y - 2 * R * Y * Y / (R + z))),

@@ -35,11 +35,9 @@ PROGRESS_POINTS = 20_000
 
 def _angle_range(text: str) -> tuple[float, float, int]:
     """MIN:MAX:N of incidence angles, degrees."""
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"expected MIN:MAX:N, got {text!r}")
+    low, high, count = range_arg(text)
     try:
-        return float(parts[0]), float(parts[1]), int(parts[2])
+        return float(low), float(high), count
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected numbers MIN:MAX:N, got {text!r}") from None
 

@@ -49,14 +49,14 @@ AXIS_R2 = 4e-8
 
 
 def effective_modulus(E, nu, E_s=None, nu_s=None) -> float:
-    """Contact modulus E* (Pa): 1/E* = (1-nu^2)/E + (1-nu_s^2)/E_s; a rigid slider if E_s is None."""
-    E = check_real("E", E, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
-    nu = check_real("nu", nu, low=NU_RANGE[0], high=NU_RANGE[1], low_open=True, high_open=True)
+    """Contact modulus E* (Pa) from E, E_s (Pa) and nu, nu_s (1):
+    1/E* = (1-nu^2)/E + (1-nu_s^2)/E_s (Johnson 1985 eq 4.22); a rigid slider if E_s is None."""
+    E = _modulus("E", E)
+    nu = check_poisson(nu)
     inv = (1.0 - nu * nu) / E
     if E_s is not None:
-        E_s = check_real("E_s", E_s, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
-        nu_s = check_real("nu_s", 0.0 if nu_s is None else nu_s, low=NU_RANGE[0],
-                          high=NU_RANGE[1], low_open=True, high_open=True)
+        E_s = _modulus("E_s", E_s)
+        nu_s = check_poisson(0.0 if nu_s is None else nu_s, "nu_s")
         inv += (1.0 - nu_s * nu_s) / E_s
     elif nu_s is not None:
         raise InputError("nu_s was given without E_s: give the slider's E_s too")
@@ -71,26 +71,34 @@ def _length(name, v):
     return check_real(name, v, low=1e-12, high=1e3, unit="m")
 
 
-def _mu(mu):
-    return check_real("mu", mu, low=0.0, high=MU_MAX)
+def _modulus(name, E):
+    return check_real(name, E, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
 
 
-def _nu(nu):
-    return check_real("nu", nu, low=NU_RANGE[0], high=NU_RANGE[1], low_open=True, high_open=True)
+def check_friction(mu, name: str = "mu") -> float:
+    """A friction coefficient in [0, MU_MAX], or InputError naming `name`."""
+    return check_real(name, mu, low=0.0, high=MU_MAX)
+
+
+def check_poisson(nu, name: str = "nu") -> float:
+    """A Poisson's ratio in the open interval NU_RANGE, or InputError naming `name`."""
+    return check_real(name, nu, low=NU_RANGE[0], high=NU_RANGE[1], low_open=True, high_open=True)
 
 
 def hertz_sphere(P, R, E_star) -> tuple[float, float]:
-    """Sphere on a flat: contact radius a = (3PR/4E*)^(1/3) (m) and p0 = 3P/(2 pi a^2) (Pa)."""
+    """Sphere on a flat (P in N, R in m, E* in Pa): contact radius a = (3PR/4E*)^(1/3) (m) and
+    p0 = 3P/(2 pi a^2) (Pa) (Johnson 1985 eqs 4.22-4.23)."""
     P, R = _load(P), _length("R", R)
-    E_star = check_real("E_star", E_star, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+    E_star = _modulus("E_star", E_star)
     a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
     return a, 3.0 * P / (2.0 * math.pi * a * a)
 
 
 def hertz_cylinder(P, L, R, E_star) -> tuple[float, float]:
-    """Cylinder (length L, total load P): half-width b = sqrt(4P'R/(pi E*)) (m), p0 = 2P'/(pi b)."""
+    """Cylinder (length L and radius R in m, total load P in N, E* in Pa, P' = P/L): half-width
+    b = sqrt(4P'R/(pi E*)) (m), p0 = 2P'/(pi b) (Pa) (Johnson 1985 eqs 4.43-4.45)."""
     P, L, R = _load(P), _length("L", L), _length("R", R)
-    E_star = check_real("E_star", E_star, low=MODULUS_RANGE[0], high=MODULUS_RANGE[1], unit="Pa")
+    E_star = _modulus("E_star", E_star)
     w = P / L
     b = math.sqrt(4.0 * w * R / (math.pi * E_star))
     return b, 2.0 * w / (math.pi * b)
@@ -107,10 +115,12 @@ def cylinder_stresses(x, z, b, p0, mu, nu) -> dict[str, np.ndarray]:
     """Plane-strain stresses (Pa) at (x, z) (m) under p = p0 sqrt(1-x^2/b^2), q = mu p in +x.
 
     Returns sxx, szz, txz, syy = nu (sxx + szz), and the zero sxy, syz (tension positive).
+    b in m, p0 in Pa. McEwen (1949) / Smith & Liu (1953) closed forms, Johnson (1985) eqs 4.49,
+    4.50 (normal pressure) and 7.18 (tangential traction).
     """
     b = _length("b", b)
     p0 = check_real("p0", p0, low=0.0, high=1e14, unit="Pa")
-    mu, nu = _mu(mu), _nu(nu)
+    mu, nu = check_friction(mu), check_poisson(nu)
     x = np.asarray(x, dtype=float)
     z = _depth(z)
     x, z = np.broadcast_arrays(x, z)
@@ -153,7 +163,7 @@ def sphere_normal_stresses(x, y, z, a, p0, nu) -> dict[str, np.ndarray]:
     """
     a = _length("a", a)
     p0 = check_real("p0", p0, low=0.0, high=1e14, unit="Pa")
-    nu = _nu(nu)
+    nu = check_poisson(nu)
     x, y, z = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), _depth(z))
     x, y, z = x / a, y / a, z / a                          # work in units of a (a = 1)
     r2 = x * x + y * y
@@ -268,9 +278,11 @@ def _cyl_peaks(nu, mu, measure=_cyl_vm):
 
 
 def cylinder_sliding(P, L, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> SlidingResult:
-    """Sliding cylinder (radius R, length L, total load P) on a half-space (E, nu)."""
+    """Sliding cylinder (radius R, length L in m, total load P in N) on a half-space (E in Pa,
+    nu); sigma_y in Pa. Hertz line contact (Johnson 1985 eqs 4.43-4.45) and the
+    McEwen / Smith & Liu field (Johnson eqs 4.49, 4.50, 7.18); see docs/sliding.md."""
     E_star = effective_modulus(E, nu, E_s, nu_s)
-    nu, mu = _nu(nu), _mu(mu)
+    nu, mu = check_poisson(nu), check_friction(mu)
     b, p0 = hertz_cylinder(P, L, R, E_star)
     if sigma_y is not None:
         sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
@@ -284,7 +296,7 @@ def cylinder_sliding(P, L, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> S
 def sphere_normal_result(P, R, E, nu, sigma_y=None, E_s=None, nu_s=None) -> SlidingResult:
     """Frictionless (mu = 0) sphere: the largest von Mises is on the axis (found there)."""
     E_star = effective_modulus(E, nu, E_s, nu_s)
-    nu = _nu(nu)
+    nu = check_poisson(nu)
     a, p0 = hertz_sphere(P, R, E_star)
     if sigma_y is not None:
         sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
@@ -297,8 +309,9 @@ def sphere_normal_result(P, R, E, nu, sigma_y=None, E_s=None, nu_s=None) -> Slid
 
 
 def cylinder_surface_yield_friction(nu, criterion="von_mises") -> float:
-    """Friction mu at which the largest von Mises (or Tresca) stress reaches the surface."""
-    nu = _nu(nu)
+    """Friction mu (1) at which the largest von Mises (or Tresca) stress of a sliding cylinder
+    reaches the surface (Johnson 1985 section 7.2: about 0.25 at nu = 0.3)."""
+    nu = check_poisson(nu)
     if criterion == "von_mises":
         measure = _cyl_vm
     elif criterion == "tresca":
@@ -334,7 +347,7 @@ def cylinder_shakedown_pressure(mu, nu=0.3, grid: int = 801) -> float:
     k is the yield stress in shear (sigma_y / sqrt(3) by von Mises, sigma_y / 2 by Tresca).
     Found by bisection to 1e-6 on a (x, z) grid of ``grid`` x ``grid // 4`` points over
     |x| <= 4 b, 0 <= z <= 2 b."""
-    mu, nu = _mu(mu), _nu(nu)
+    mu, nu = check_friction(mu), check_poisson(nu)
     x = np.linspace(-4.0, 4.0, int(grid))
     z = np.linspace(0.0, 2.0, max(int(grid) // 4, 50))
     X, Z = np.meshgrid(x, z)
@@ -444,11 +457,12 @@ def sphere_tangential_stresses(x, y, z, a, q0, nu, n_theta=SPH_N_THETA, n_ray=SP
                                chunk=256) -> dict[str, np.ndarray]:
     """All six stresses (Pa) under the traction q = q0 sqrt(1 - r^2/a^2) in +x on the circle r < a.
 
-    Numerical integration of Cerruti's point-force stresses (see `_tangential_sub`); on z = 0 a
+    x, y, z and a in m, q0 in Pa. Numerical integration of Cerruti's point-force stresses
+    (Johnson 1985 eq 3.87; see `_tangential_sub`); on z = 0 a
     closed-form radial integral (`_tangential_surface`). Accuracy: see docs/sliding.md."""
     a = _length("a", a)
     q0 = check_real("q0", q0, low=0.0, high=1e14, unit="Pa")
-    nu = _nu(nu)
+    nu = check_poisson(nu)
     x, y, z = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), _depth(z))
     shape = x.shape
     xf, yf, zf = (v.ravel() / a for v in (x, y, z))
@@ -471,7 +485,7 @@ def sphere_stresses(x, y, z, a, p0, mu, nu) -> dict[str, np.ndarray]:
     """All six stresses (Pa) under a sliding sphere: Hertz pressure plus q = mu p in +x.
 
     mu = 0 returns `sphere_normal_stresses` exactly."""
-    mu = _mu(mu)
+    mu = check_friction(mu)
     s = sphere_normal_stresses(x, y, z, a, p0, nu)
     if mu == 0.0:
         return s
@@ -517,7 +531,7 @@ def sphere_sliding(P, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> Slidin
     tensile_max is the surface sigma_xx at the trailing edge (x = -a, y = 0), the largest
     surface tension: p0 ((1 - 2nu)/3 + (4 + nu) pi mu / 8) (Hamilton 1983)."""
     E_star = effective_modulus(E, nu, E_s, nu_s)
-    nu, mu = _nu(nu), _mu(mu)
+    nu, mu = check_poisson(nu), check_friction(mu)
     a, p0 = hertz_sphere(P, R, E_star)
     if sigma_y is not None:
         sigma_y = check_real("sigma_y", sigma_y, low=0.0, high=1e12, low_open=True, unit="Pa")
@@ -533,7 +547,7 @@ def sphere_sliding(P, R, E, nu, mu, sigma_y=None, E_s=None, nu_s=None) -> Slidin
 def sphere_surface_yield_friction(nu, criterion="von_mises") -> float:
     """Friction mu at which the largest von Mises (or Tresca) stress of a sliding sphere moves
     to the surface."""
-    nu = _nu(nu)
+    nu = check_poisson(nu)
     measure = _sph_measure(criterion)
 
     def gap(mu):

@@ -51,8 +51,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize, special
 
-from filmscale.continuum.contact.sliding import (MU_MAX, cylinder_stresses, principal_stresses,
-                                                 von_mises)
+from filmscale.continuum.contact.sliding import (check_friction, cylinder_stresses,
+                                                 principal_stresses, von_mises)
 from filmscale.continuum.materials import LayerStack
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
@@ -80,7 +80,7 @@ def _common(stack, b, p0, mu):
     stack = _check_stack(stack)
     b = check_real("b", b, low=1e-12, high=1e3, unit="m")
     p0 = check_real("p0", p0, low=0.0, high=1e14, unit="Pa")
-    mu = check_real("mu", mu, low=0.0, high=MU_MAX)
+    mu = check_friction(mu)
     return stack, b, p0, mu
 
 

@@ -14,6 +14,7 @@ from scipy import integrate, optimize
 
 from filmscale.continuum.contact import sliding as sl
 from filmscale.core.errors import InputError
+from tests.helpers.hertz_disc import hertz_disc_nodes
 
 NU = 0.3
 
@@ -56,14 +57,8 @@ def boussinesq_disc(x, y, z, nu, nb=160, nphi=320):
     """Boussinesq point-load stresses (Johnson eqs 3.? for a normal point force: sigma_r,
     sigma_theta, sigma_z, tau_rz) summed over the Hertz pressure p0 sqrt(1 - r^2) on the unit
     disc, r = sin(beta) (Gauss-Legendre in beta, trapezoid in the angle): units of p0, a."""
-    gb, wb = np.polynomial.legendre.leggauss(nb)
-    beta = (gb + 1) * math.pi / 4
-    wbeta = wb * math.pi / 4
-    phi = np.arange(nphi) * 2 * math.pi / nphi
-    B, F = np.meshgrid(beta, phi, indexing="ij")
-    r = np.sin(B)
-    dP = np.cos(B) * np.sin(B) * np.cos(B) * (wbeta[:, None] * (2 * math.pi / nphi))  # p dA
-    dx, dy = x - r * np.cos(F), y - r * np.sin(F)
+    xs, ys, dP = hertz_disc_nodes(nb, nphi)  # p dA
+    dx, dy = x - xs, y - ys
     R2 = dx * dx + dy * dy
     rho = np.sqrt(R2 + z * z)
     sr = ((1 - 2 * nu) / R2 * (1 - z / rho) - 3 * z * R2 / rho ** 5) / (2 * math.pi)
@@ -322,13 +317,8 @@ def test_cerruti_oracle_kernel_against_its_displacements():
 def cerruti_disc(x, y, z, nu, nb=160, nphi=320):
     """Cerruti stresses summed over q = sqrt(1 - r^2) in +x on the unit disc, r = sin(beta)
     (Gauss-Legendre in beta, trapezoid in the angle about the disc centre): units q0, a."""
-    gb, wb = np.polynomial.legendre.leggauss(nb)
-    beta, wbeta = (gb + 1) * math.pi / 4, wb * math.pi / 4
-    phi = np.arange(nphi) * 2 * math.pi / nphi
-    B, F = np.meshgrid(beta, phi, indexing="ij")
-    r = np.sin(B)
-    dQ = np.cos(B) ** 2 * np.sin(B) * wbeta[:, None] * (2 * math.pi / nphi)
-    k = cerruti_sigma(x - r * np.cos(F), y - r * np.sin(F), z, nu)
+    xs, ys, dQ = hertz_disc_nodes(nb, nphi)
+    k = cerruti_sigma(x - xs, y - ys, z, nu)
     return {c: float(np.sum(v * dQ)) for c, v in k.items()}
 
 

@@ -136,6 +136,9 @@ def test_equilibrium_of_resultants(film=TIN, sub=AL):
 @pytest.mark.parametrize("film,sub", [(TIN, AL), (AL, TIN)])
 @pytest.mark.parametrize("mu", [0.0, 0.3])
 def test_very_thin_film_gives_the_substrate_field(film, sub, mu):
+    """Limit h -> 0 (h = 1e-3 b): the field is the homogeneous substrate's, McEwen's closed
+    form (cylinder_stresses with the substrate's nu); tolerance 1e-2 p0 (a film of any
+    thickness perturbs the field by O(h/b) times the modulus contrast)."""
     h = 1e-3
     st = stack((h, film), substrate=sub)
     X, Z = (a.ravel() for a in np.meshgrid(np.linspace(-2, 2, 41), np.linspace(0.1, 2, 8)))
@@ -151,6 +154,8 @@ def test_very_thin_film_gives_the_substrate_field(film, sub, mu):
 
 # ------------------------------------------------------------- API and per-layer result
 def test_public_api_units_and_shapes():
+    """Units: the dimensional API equals p0 times the unit field (b = 1, p0 = 1) of `_field`,
+    atol 1e-6 Pa on stresses of order 1e9 Pa (rounding); plane strain, so sxy = syz = 0."""
     st = stack((0.2, TIN), substrate=STEEL)
     x = np.linspace(-2, 2, 7)[:, None] * B
     z = np.array([0.0, 0.1, 0.2, 0.5]) * B
@@ -162,6 +167,10 @@ def test_public_api_units_and_shapes():
 
 
 def test_sliding_summary_on_identical_layers_matches_homogeneous():
+    """Limit: a steel film on steel is homogeneous steel, so the summary equals the
+    homogeneous `cylinder_sliding` (von Mises maximum, rel 1e-4, the grid's resolution) and
+    the surface tensile maximum 2 mu p0 at the trailing edge x = -b (closed form, McEwen
+    1949; rel 1e-3, and 0.02 b in position: the x grid's spacing)."""
     st = stack((0.3, STEEL), substrate=STEEL)
     r = sl.layered_cylinder_sliding(st, B, 1e9, 0.2, nx=81, nz=12)
     ref = cylinder_sliding(1.0, 1.0, 1e-2, 210e9, 0.3, 0.2)     # (b, p0 from P, L, R)

@@ -19,21 +19,9 @@ HISTORY_HEADER = ("time [s], delta [m], velocity [m/s], force [N], contact_radiu
 CYLINDER_HISTORY_HEADER = HISTORY_HEADER.replace("contact_radius", "contact_half_width")
 from filmscale.workflows.result import read_impact_maps
 from filmscale.workflows.scene import parse_scene
+from tests.helpers.scenes import CYLINDER_ON_STEEL
 
-SCENE = """
-[impactor]
-shape = "cylinder"
-radius = 1e-3
-length = 5e-3
-mass = 1e-3
-velocity = 5.0
-
-[target.substrate]
-name = "steel"
-E = 200e9
-nu = 0.3
-sigma_y = 1e9
-"""
+SCENE = CYLINDER_ON_STEEL
 STEEL = ElasticPlastic(E=200e9, nu=0.3, sigma_y=1e9, name="steel")
 
 

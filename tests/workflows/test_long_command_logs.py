@@ -17,53 +17,17 @@ import pytest
 
 from filmscale.workflows.cli import main
 from tests.helpers.engines import RecordedEngine
-from tests.helpers.scenes import BASE, SCENE
+from tests.helpers.scenes import BASE, CYLINDER_FILM_ON_STEEL, SCENE
+from tests.helpers.scenes import OBLIQUE as OBLIQUE_TEMPLATE
 
 #: a plain progress line: ``filmscale: LABEL: N/TOTAL UNITs, P% (RATE UNITs/s, T s left)``
 PROGRESS = re.compile(r"^filmscale: (?P<label>.+): (?P<n>\d+)/(?P<total>\d+) (?P<unit>\w+)s, "
                       r"(?P<percent>\d+)% \((?P<rate>\S+) (?P=unit)s/s, "
                       r"(?P<left>[\d.]+ (s|min|h)) left\)$")
 
-CYLINDER = """
-[impactor]
-shape = "cylinder"
-radius = 1e-3
-length = 5e-3
-mass = 1e-3
-velocity = 5.0
+CYLINDER = CYLINDER_FILM_ON_STEEL
 
-[[target.layers]]
-name = "film"
-thickness = 30e-6
-E = 120e9
-nu = 0.25
-sigma_y = 0.8e9
-
-[target.substrate]
-name = "steel"
-E = 200e9
-nu = 0.3
-sigma_y = 1e9
-"""
-
-OBLIQUE = """
-[impactor]
-radius = 1e-3
-mass = 3.27e-5
-velocity = 0.1
-
-[target.substrate]
-name = "steel"
-E = 200e9
-nu = 0.3
-sigma_y = 1.5e9
-
-[model]
-contact_law = "hertz"
-
-[contact]
-friction = 0.1
-
+OBLIQUE = OBLIQUE_TEMPLATE.format(mu=0.1) + """
 [map]
 velocity = [0.05, 0.2, 3]
 """

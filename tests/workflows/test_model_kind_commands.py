@@ -18,7 +18,7 @@ from filmscale.workflows.result import read_impact_maps
 from filmscale.workflows.scene import parse_scene
 from tests.helpers.curves import sphere_curve_file
 from tests.helpers.flat_punch import FLAT_PUNCH, punch_closed_form, punch_map_reference
-from tests.helpers.scenes import MINIMAL
+from tests.helpers.scenes import CYLINDER_CALIBRATED, MINIMAL
 
 #: MINIMAL's glass hit by a flat punch of radius 2 um, 1 ng, at 0.5 m/s, with a map
 PUNCH = (MINIMAL.replace('shape = "sphere"', 'shape = "flat-punch"')
@@ -85,36 +85,7 @@ def test_run_and_report_a_flat_punch_scene(punch, tmp_path, capsys):
     assert "<img" in report.read_text()
 
 
-CYLINDER = """
-[impactor]
-shape = "cylinder"
-radius = 1e-3
-length = 5e-3
-mass = 1e-3
-velocity = 2.0
-
-[target.substrate]
-name = "glass"
-E = 90e9
-nu = 0.25
-sigma_y = 2.4e9
-
-[[target.layers]]
-name = "film"
-thickness = 20e-6
-nu = 0.3
-[target.layers.calibrate]
-curves = ["film.csv"]
-tip = "sphere:5um"
-
-[map]
-velocity = [0.5, 8.0, 3]
-radius = [5e-4, 1e-3, 2]
-
-[outputs]
-want = ["maxima", "map"]
-tolerance = 0.001
-"""
+CYLINDER = CYLINDER_CALIBRATED
 
 
 def _completed_scene_text(result) -> str:

@@ -9,25 +9,9 @@ import pytest
 from filmscale.core.errors import InputError
 from filmscale.workflows.cli import main
 from filmscale.workflows.scene import parse_scene
+from tests.helpers.scenes import OBLIQUE
 
-SCENE = """
-[impactor]
-radius = 1e-3
-mass = 3.27e-5
-velocity = 0.1
-
-[target.substrate]
-name = "steel"
-E = 200e9
-nu = 0.3
-sigma_y = 1.5e9
-
-[model]
-contact_law = "hertz"
-
-[contact]
-friction = {mu}
-"""
+SCENE = OBLIQUE
 
 OBLIQUE_KEYS = ("restitution_tangential", "restitution_contact_point", "impulse_ratio",
                 "rebound_angle", "spin", "regime_tangential")

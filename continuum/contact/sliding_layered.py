@@ -58,7 +58,8 @@ from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 
 __all__ = ["layered_cylinder_stresses", "layered_cylinder_sliding", "LayerPeak",
-           "LayeredSlidingResult"]
+           "LayeredSlidingResult", "psv_coefficients", "decaying_modes", "growing_modes",
+           "halfspace_modes"]
 
 #: s l at which the layered correction is cut off (e^{-45} (45)^2 ~ 6e-17)
 DECAY_CUT = 45.0
@@ -122,7 +123,7 @@ def _M(nu, E):
     return M
 
 
-def _Dd(u):
+def decaying_modes(u):
     """D_n of (a + b u) e^{-u}: array (..., 4, 2) acting on (a, b)."""
     e = np.exp(-u)
     out = np.empty(np.shape(u) + (4, 2))
@@ -133,7 +134,7 @@ def _Dd(u):
     return out
 
 
-def _Du(v):
+def growing_modes(v):
     """D_n of (c + d v) e^{v} (v <= 0): array (..., 4, 2) acting on (c, d)."""
     e = np.exp(v)
     out = np.empty(np.shape(v) + (4, 2))
@@ -143,7 +144,7 @@ def _Du(v):
     return out
 
 
-def _coefficients(s, h, nus, Es):
+def psv_coefficients(s, h, nus, Es):
     """Per-layer coefficients for wavenumbers s (units 1/b), layer thicknesses h (units b).
 
     Returns ab (L+1, Ns, 2, 2) and cd (L, Ns, 2, 2): [..., pair, load case], load case 0 the
@@ -155,19 +156,19 @@ def _coefficients(s, h, nus, Es):
     R = np.zeros((L, Ns, 2, 2))
     S = np.zeros((L, Ns, 2, 2))
     # top of the substrate: T = M Dd(0)
-    T = np.broadcast_to(Ms[L] @ _Dd(np.zeros(1))[0], (Ns, 4, 2))
-    up0 = _Du(np.zeros(1))[0]
+    T = np.broadcast_to(Ms[L] @ decaying_modes(np.zeros(1))[0], (Ns, 4, 2))
+    up0 = growing_modes(np.zeros(1))[0]
     for j in range(L - 1, -1, -1):
         t = s * h[j]
         A = np.empty((Ns, 4, 4))
         A[:, :, :2] = Ms[j] @ up0
         A[:, :, 2:] = -T
-        rhs = -(Ms[j] @ _Dd(t))
+        rhs = -(Ms[j] @ decaying_modes(t))
         X = np.linalg.solve(A, rhs)
         R[j], S[j] = X[:, :2], X[:, 2:]
         # top of layer j seen from above: M_j (Dd(0) + Du(-t) R_j)
-        T = Ms[j] @ (_Dd(np.zeros(1))[0] + _Du(-t) @ R[j])
-    top = _Dd(np.zeros(1))[0] + (_Du(-s * h[0]) @ R[0] if L else 0.0)
+        T = Ms[j] @ (decaying_modes(np.zeros(1))[0] + growing_modes(-t) @ R[j])
+    top = decaying_modes(np.zeros(1))[0] + (growing_modes(-s * h[0]) @ R[0] if L else 0.0)
     B = np.broadcast_to(top[..., :2, :], (Ns, 2, 2))
     ab = np.empty((L + 1, Ns, 2, 2))
     ab[0] = np.linalg.solve(B, np.broadcast_to(np.eye(2), (Ns, 2, 2)))
@@ -178,7 +179,7 @@ def _coefficients(s, h, nus, Es):
     return ab, cd
 
 
-def _hom_D(u):
+def halfspace_modes(u):
     """D0..D2 of the homogeneous half-space, (..., 3, 2): normal F = (1+u)e^-u, tangential u e^-u."""
     e = np.exp(-u)
     out = np.empty(np.shape(u) + (3, 2))
@@ -268,18 +269,18 @@ def _synthesise(x, z, lay, tops, h, nus, Es, mu, s_all, w_all, subtract):
     for c0 in range(0, s_all.size, chunk):
         s = s_all[c0:c0 + chunk]
         wk = w_all[c0:c0 + chunk] * special.j1(s) / s          # p^/(pi p0 b) weights
-        ab, cd = _coefficients(s, h, nus, Es)
+        ab, cd = psv_coefficients(s, h, nus, Es)
         # spectra at the distinct depths: G[n, load, s, depth]
         G = np.empty((3, 2, s.size, zu_z.size))
         for j in np.unique(zu_l):
             sel = np.nonzero(zu_l == j)[0]
             u = s[:, None] * (zu_z[None, sel] - tops[j])
-            D = _Dd(u)[..., :3, :] @ ab[j][:, None]                 # (Ns, nsel, 3, 2)
+            D = decaying_modes(u)[..., :3, :] @ ab[j][:, None]      # (Ns, nsel, 3, 2)
             if j < L:
                 v = s[:, None] * (zu_z[None, sel] - tops[j + 1])
-                D = D + _Du(v)[..., :3, :] @ cd[j][:, None]
+                D = D + growing_modes(v)[..., :3, :] @ cd[j][:, None]
             if subtract:
-                D = D - _hom_D(s[:, None] * zu_z[None, sel])
+                D = D - halfspace_modes(s[:, None] * zu_z[None, sel])
             G[:, :, :, sel] = np.moveaxis(D, (2, 3), (0, 1))
         G *= wk[None, None, :, None]
         if grid:

@@ -57,7 +57,8 @@ from filmscale.continuum.materials import LayerStack
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 
-__all__ = ["layered_cylinder_stresses", "layered_cylinder_sliding", "LayerPeak",
+__all__ = ["layered_cylinder_stresses", "layered_cylinder_sliding", "layered_cylinder_unit_fields",
+           "LayerPeak",
            "LayeredSlidingResult", "psv_coefficients", "decaying_modes", "growing_modes",
            "halfspace_modes"]
 
@@ -197,10 +198,10 @@ def _layer_of(z, tops, side):
     return np.searchsorted(bottoms, z, side="left")
 
 
-def _quadrature(x_max, l_min, L_max):
-    """Composite Gauss-Legendre nodes and weights on [0, DECAY_CUT / l_min] (units 1/b)."""
-    s_max = DECAY_CUT / l_min
-    width = min(1.0, 4.0 / (1.0 + x_max), 8.0 / max(L_max, 1e-300))
+def _quadrature(x_max, l_min, L_max, cut=DECAY_CUT):
+    """Composite Gauss-Legendre nodes and weights on [0, cut / l_min] (units 1/b)."""
+    s_max = cut / l_min
+    width = min(2.5, 8.0 / (1.0 + x_max), 8.0 / max(L_max, 1e-300))
     n_pan = max(int(math.ceil(s_max / width)), 4)
     g, w = np.polynomial.legendre.leggauss(GL_NODES)
     edges = np.linspace(0.0, s_max, n_pan + 1)
@@ -227,15 +228,34 @@ def _field(x, z, stack, mu, side="below", subtract=True, b=1.0):
 
 
 def _field_scaled(x, z, h, nus, Es, mu, side, subtract):
+    normal, tangential, nu_pt = _unit_parts(x, z, h, nus, Es, side, subtract)
+    out = {k: normal[k] + mu * tangential[k] for k in normal}
+    out["syy"] = nu_pt * (out["sxx"] + out["szz"])
+    return out
+
+
+#: depths are integrated in groups whose decay lengths l lie within this factor of each
+#: other, each group to its own cut-off DECAY_CUT / l_group (a deep row needs far fewer
+#: wavenumbers than a row in a thin top film)
+GROUP_FACTOR = 2.0
+
+
+def _unit_parts(x, z, h, nus, Es, side, subtract, cut=DECAY_CUT):
+    """(normal, tangential) fields (sxx, szz, txz) of unit p0 and unit mu at the points, and
+    each point's Poisson ratio; the correction cut at s l = ``cut``."""
     L = len(h)
     tops = np.concatenate(([0.0], np.cumsum(h)))
     lay = _layer_of(z, tops, side)
     nu_pt = np.asarray(nus)[lay]
-    out = {k: np.zeros(x.shape) for k in ("sxx", "szz", "txz")}
+    keys = ("sxx", "szz", "txz")
+    normal = {k: np.zeros(x.shape) for k in keys}
+    tangential = {k: np.zeros(x.shape) for k in keys}
     if subtract:
-        hom = cylinder_stresses(x, z, 1.0, 1.0, mu, 0.25)
-        for k in out:
-            out[k] = out[k] + hom[k]
+        hom0 = cylinder_stresses(x, z, 1.0, 1.0, 0.0, 0.25)
+        hom1 = cylinder_stresses(x, z, 1.0, 1.0, 1.0, 0.25)
+        for k in keys:
+            normal[k] += hom0[k]
+            tangential[k] += hom1[k] - hom0[k]
     if L or not subtract:
         if subtract:
             h1 = h[0]
@@ -244,18 +264,25 @@ def _field_scaled(x, z, h, nus, Es, mu, side, subtract):
             if np.any(z <= 0):
                 raise InputError("z must be > 0 for the unsubtracted spectral integral")
             ell = z
-        l_min = float(np.min(ell)) if z.size else 1.0
+        if not z.size:
+            return normal, tangential, nu_pt
+        l_min = float(np.min(ell))
         L_max = float(np.max(z, initial=0.0)) + 2.0 * tops[-1]
         x_max = float(np.max(np.abs(x), initial=0.0))
-        s, ws = _quadrature(x_max, l_min, L_max)
-        corr = _synthesise(x, z, lay, tops, h, nus, Es, mu, s, ws, subtract)
-        for k in out:
-            out[k] = out[k] + corr[k]
-    out["syy"] = nu_pt * (out["sxx"] + out["szz"])
-    return out
+        group = np.floor(np.log(ell / l_min) / math.log(GROUP_FACTOR)).astype(int)
+        for g in np.unique(group):
+            sel = np.nonzero(group == g)[0]
+            s, ws = _quadrature(x_max, float(np.min(ell[sel])), L_max, cut)
+            parts = _synthesise(x[sel], z[sel], lay[sel], tops, h, nus, Es, s, ws, subtract)
+            for k in keys:
+                normal[k][sel] += parts[0][k]
+                tangential[k][sel] += parts[1][k]
+    return normal, tangential, nu_pt
 
 
-def _synthesise(x, z, lay, tops, h, nus, Es, mu, s_all, w_all, subtract):
+def _synthesise(x, z, lay, tops, h, nus, Es, s_all, w_all, subtract):
+    """The layered correction (or, unsubtracted, the whole spectral integral) of the normal
+    and of the unit tangential load: two dicts of sxx, szz, txz at the points."""
     L = len(h)
     xu, ix = np.unique(x, return_inverse=True)
     zl = np.stack([z, lay.astype(float)], axis=1)
@@ -263,8 +290,8 @@ def _synthesise(x, z, lay, tops, h, nus, Es, mu, s_all, w_all, subtract):
     ix, iz = ix.ravel(), iz.ravel()
     grid = xu.size * zu.shape[0] <= 4 * x.size + 4096
     zu_z, zu_l = zu[:, 0], zu[:, 1].astype(int)
-    acc = {k: (np.zeros((xu.size, zu.shape[0])) if grid else np.zeros(x.size))
-           for k in ("sxx", "szz", "txz")}
+    shape = (xu.size, zu.shape[0]) if grid else (x.size,)
+    acc = [{k: np.zeros(shape) for k in ("sxx", "szz", "txz")} for _ in range(2)]
     chunk = max(64, min(8192, CHUNK_CELLS // (L + 1)))
     for c0 in range(0, s_all.size, chunk):
         s = s_all[c0:c0 + chunk]
@@ -283,27 +310,27 @@ def _synthesise(x, z, lay, tops, h, nus, Es, mu, s_all, w_all, subtract):
                 D = D - halfspace_modes(s[:, None] * zu_z[None, sel])
             G[:, :, :, sel] = np.moveaxis(D, (2, 3), (0, 1))
         G *= wk[None, None, :, None]
+        # normal load: szz ~ -cos D0, sxx ~ cos D2, txz ~ sin D1; tangential: sin, sin, -cos
         if grid:
             C = np.cos(np.outer(xu, s))
             Sn = np.sin(np.outer(xu, s))
-            acc["szz"] -= C @ G[0, 0] + mu * (Sn @ G[0, 1])
-            acc["sxx"] += C @ G[2, 0] + mu * (Sn @ G[2, 1])
-            acc["txz"] += Sn @ G[1, 0] - mu * (C @ G[1, 1])
+            for load, (even, odd, sign) in enumerate(((C, Sn, 1.0), (Sn, C, -1.0))):
+                acc[load]["szz"] -= even @ G[0, load]
+                acc[load]["sxx"] += even @ G[2, load]
+                acc[load]["txz"] += sign * (odd @ G[1, load])
         else:
             for p0_ in range(0, x.size, 256):
                 sl_ = slice(p0_, p0_ + 256)
                 arg = np.outer(x[sl_], s)
                 C, Sn = np.cos(arg), np.sin(arg)
                 g = G[:, :, :, iz[sl_]]                              # (3, 2, Ns, npts)
-                acc["szz"][sl_] -= np.einsum("ps,sp->p", C, g[0, 0]) \
-                    + mu * np.einsum("ps,sp->p", Sn, g[0, 1])
-                acc["sxx"][sl_] += np.einsum("ps,sp->p", C, g[2, 0]) \
-                    + mu * np.einsum("ps,sp->p", Sn, g[2, 1])
-                acc["txz"][sl_] += np.einsum("ps,sp->p", Sn, g[1, 0]) \
-                    - mu * np.einsum("ps,sp->p", C, g[1, 1])
+                for load, (even, odd, sign) in enumerate(((C, Sn, 1.0), (Sn, C, -1.0))):
+                    acc[load]["szz"][sl_] -= np.einsum("ps,sp->p", even, g[0, load])
+                    acc[load]["sxx"][sl_] += np.einsum("ps,sp->p", even, g[2, load])
+                    acc[load]["txz"][sl_] += sign * np.einsum("ps,sp->p", odd, g[1, load])
     if grid:
-        return {k: v[ix, iz] for k, v in acc.items()}
-    return acc
+        return tuple({k: v[ix, iz] for k, v in part.items()} for part in acc)
+    return tuple(acc)
 
 
 # ------------------------------------------------------------------ public API
@@ -323,6 +350,34 @@ def layered_cylinder_stresses(x, z, stack, b, p0, mu, side="below") -> dict[str,
     res["sxy"] = np.zeros(shape)
     res["syz"] = np.zeros(shape)
     return res
+
+
+def layered_cylinder_unit_fields(x, z, stack, b, cut=DECAY_CUT) -> tuple[dict, dict]:
+    """The plane-strain fields on X, Z = meshgrid(x, z) (1-D x and z in m; a point on an
+    interface belongs to the layer below) of the normal Hertz pressure with p0 = 1 and of
+    the tangential traction with p0 = 1 and mu = 1: the field of (p0, mu) is
+    p0 (normal + mu tangential). ``cut``: s l where the layered correction is cut (its
+    integrand decays as (s l)^2 e^{-s l}: 30 leaves ~1e-10 p0, the default 45 ~1e-17). Dicts of sxx, syy, szz, txz (and the zero sxy, syz) arrays
+    (z.size, x.size)."""
+    stack = _check_stack(stack)
+    b = check_real("b", b, low=1e-12, high=1e3, unit="m")
+    x, z = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
+    if x.ndim != 1 or z.ndim != 1:
+        raise InputError(f"x and z must be 1-D arrays (got shapes {x.shape}, {z.shape})")
+    X, Z = _points(*np.meshgrid(x, z))
+    h = np.array([layer.thickness for layer in stack.layers], dtype=float) / b
+    mats = stack.materials()
+    Es = [m.E / stack.substrate.E for m in mats]
+    nus = [m.nu for m in mats]
+    cut = check_real("cut", cut, low=10.0, high=100.0)
+    normal, tangential, nu_pt = _unit_parts(X.ravel() / b, Z.ravel() / b, h, nus, Es,
+                                            "below", True, cut)
+    out = []
+    for part in (normal, tangential):
+        part["syy"] = nu_pt * (part["sxx"] + part["szz"])
+        part["sxy"] = part["syz"] = np.zeros(X.size)
+        out.append({k: v.reshape(X.shape) for k, v in part.items()})
+    return out[0], out[1]
 
 
 @dataclass(frozen=True)

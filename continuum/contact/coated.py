@@ -83,7 +83,7 @@ _PANEL_T, _N0 = 2.0, 8
 _N_MAX = 4800
 #: contact radius over film thickness accepted (beyond, the film changes the substrate's
 #: load by ~ (t/a) C'(0)/C(0), docs/layered-contact.md)
-_LAMBDA_MAX = 300.0
+LAMBDA_MAX = 300.0
 
 
 def _shear_ratio(film: ElasticPlastic, substrate: ElasticPlastic) -> float:
@@ -194,7 +194,7 @@ def _solve_cached(lam, ratio, nu_f, nu_s, tol) -> _Dimensionless:
 
 def _solve(a, thickness, film, substrate, tol) -> _Dimensionless:
     lam = check_positive("a", a, "m") / check_positive("thickness", thickness, "m")
-    check_real("a/thickness", lam, low=0.0, high=_LAMBDA_MAX, low_open=True)
+    check_real("a/thickness", lam, low=0.0, high=LAMBDA_MAX, low_open=True)
     check_real("tol", tol, low=1e-12, high=1e-2)
     for m in (film, substrate):
         if not isinstance(m, ElasticPlastic):

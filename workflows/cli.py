@@ -21,16 +21,18 @@ import sys
 from filmscale.core.errors import FilmscaleError, InputError
 from filmscale.core.files import shown
 
-from . import calibrate_cli, impact_cli, indent_cli, md_cli, particles_cli, pipeline_cli
+from . import (calibrate_cli, impact_cli, indent_cli, md_cli, particles_cli, pipeline_cli,
+               slide_cli)
 from .quantity_args import convert_quantities
 
 # The physics (scipy), the scene reader and the result files are imported inside each command,
 # so that `filmscale --help` and a usage error answer without loading them.
 
 #: the command families, in the order `filmscale --help` lists their commands: impact and
-#: impact-map; indent (analyze, calibrate, reverse); calibrate; md and potentials; particles;
-#: the scene pipeline's plan, run, sweep, cancel, status and report
-COMMANDS = (impact_cli, indent_cli, calibrate_cli, md_cli, particles_cli, pipeline_cli)
+#: impact-map; slide and slide-map; indent (analyze, calibrate, reverse); calibrate; md and
+#: potentials; particles; the scene pipeline's plan, run, sweep, cancel, status and report
+COMMANDS = (impact_cli, slide_cli, indent_cli, calibrate_cli, md_cli, particles_cli,
+            pipeline_cli)
 
 #: what is read as the value of the option before it, not as an option: a negative number in
 #: any form float() reads (-5e6, -1e-9, -.5, -inf) and a range or list that starts with one

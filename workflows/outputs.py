@@ -118,8 +118,11 @@ def _formats() -> dict[str, str]:
     from filmscale.md.record import RECORD_FORMAT as MD_RECORD
 
     from .result import (IMPACT_MAP_FORMAT, IMPACT_MAP_FORMAT_1, INDENT_RESULTS_FORMAT,
-                         RESULT_FORMATS)
+                         RESULT_FORMATS, SLIDE_RESULT_FORMAT)
+    from .slide_cli import SLIDE_MAP_FORMAT
     return {**{fmt: "a scene result (filmscale run)" for fmt in RESULT_FORMATS},
+            SLIDE_RESULT_FORMAT: "a sliding scene's result (filmscale run)",
+            SLIDE_MAP_FORMAT: "a slide map (filmscale slide-map)",
             IMPACT_MAP_FORMAT: "an impact map (filmscale impact-map)",
             IMPACT_MAP_FORMAT_1: "an impact map (filmscale impact-map)",
             INDENT_RESULTS_FORMAT: "indentation results (filmscale indent analyze)",

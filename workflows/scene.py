@@ -392,6 +392,32 @@ def _stack(data: dict, pending=frozenset()) -> tuple[LayerStack | None, list[flo
     return stack, h_star, target
 
 
+def read_stack(data: dict, pending=frozenset()) -> LayerStack | None:
+    """The [target] section of a scene (quantities with units allowed) as its layer stack
+    (None while a layer in ``pending`` awaits the E and sigma_y of its calibration; such a
+    layer must state nu); a sliding scene's target is its films and substrate, so a measured
+    profile and Nix-Gao lengths are refused."""
+    check_pending_nu(data, pending)
+    stack, h_star, target = _stack(si_quantities(data), pending)
+    if "profile" in target:
+        raise InputError("target.profile (a measured depth profile) does not give the "
+                         "stresses of a sliding contact: give the layers")
+    if any(h_star):
+        raise InputError("h_star (the Nix-Gao size effect) applies to impact scenes only")
+    return stack
+
+
+def check_pending_nu(data: dict, pending) -> None:
+    """InputError for a layer awaiting calibration that does not state nu: the calibration
+    of E from a curve takes the film's Poisson ratio."""
+    target = data.get("target") if isinstance(data.get("target"), dict) else {}
+    layers = target.get("layers") if isinstance(target.get("layers"), list) else []
+    for k in sorted(pending):
+        if k < len(layers) and isinstance(layers[k], dict) and "nu" not in layers[k]:
+            raise InputError(f"target.layers[{k}].nu is missing: a calibrated layer states "
+                             "its Poisson ratio (the calibration of E takes it)")
+
+
 def _model(data: dict, shape: str) -> tuple[dict, dict]:
     """The [model] and [contact] sections: the general keys' values and the kind's own."""
     model = _section("model", data, shape)
@@ -430,11 +456,20 @@ def read_map_spec(data: dict, mass: float, impactor: Impactor) -> MapSpec:
     return spec
 
 
+def refuse_slider(data: dict) -> None:
+    """InputError for a sliding scene given to an impact command."""
+    if "slider" in data:
+        raise InputError("the scene has a [slider]: a sliding scene is read by `filmscale "
+                         "slide` and `filmscale slide-map`; an impact scene has an [impactor]")
+
+
 def check_scene_data(data: dict, pending=frozenset()) -> None:
     """Every check of `scene_from_data` on ``data`` (already in SI) whose layers in
     ``pending`` may still lack the E and sigma_y that their calibration will give."""
     check_keys("scene", data, key_names(""))
+    refuse_slider(data)
     impactor = read_impactor(data)
+    check_pending_nu(data, pending)
     _stack(data, pending)
     _model(data, impactor.shape)
     read_map_spec(data, impactor.mass, impactor)
@@ -446,6 +481,7 @@ def scene_from_data(data: dict, text: str = "", source: str = "<scene>",
     base = Path(".") if base is None else base
     data = si_quantities(data)
     check_keys("scene", data, key_names(""))
+    refuse_slider(data)
     impactor = read_impactor(data)
     stack, h_star, target = _stack(data)
     general, options = _model(data, impactor.shape)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from filmscale.continuum.contact.kinds import all_keys, shapes
+from filmscale.continuum.contact.slider import SLIDING_KINDS
 from filmscale.core.checks import MASS_RANGE, RADIUS_RANGE, THICKNESS_MAX, VELOCITY_RANGE
 from filmscale.core.keys import REQUIRED, Key
 
@@ -91,6 +92,22 @@ GENERAL_KEYS: dict[str, tuple[Key, ...]] = {
             "model the whole target whatever it says"),
     ),
     "contact": (),
+    "slider": (
+        Key("shape", default="sphere", choices=("sphere", "cylinder"), section="slider",
+            doc="a sliding scene (`filmscale slide`, `slide-map`; docs/sliding.md) holds "
+            "[slider] instead of [impactor]: a sphere (the flying-height bump, a corner) or a "
+            "cylinder of length `length` (an edge, plane strain); the friction is `[contact] "
+            "friction`"),
+        Key("radius", "m", REQUIRED, 1e-12, 1.0, low_open=True, section="slider",
+            doc="the protrusion's radius R"),
+        Key("normal_load", "N", REQUIRED, 0.0, 1e6, low_open=True, section="slider",
+            doc="the load P pressing it on the target (a cylinder's total load on L)"),
+        Key("E", "Pa", None, 0.0, 1e14, low_open=True, section="slider",
+            valid="[0.1 GPa, 2 TPa], with `nu`", doc="elastic slider; leave `E` and `nu` out "
+            "for a rigid one"),
+        Key("nu", "1", None, **_NU, section="slider", doc="the elastic slider's Poisson ratio"),
+        Key("name", default="slider", section="slider", doc="label"),
+    ),
     "map": (
         Key("velocity", "m/s", None, valid="`[min, max, count]`",
             doc="default velocity axis of `filmscale impact-map`"),
@@ -106,6 +123,9 @@ def section_keys(section: str, shape: str | None = None) -> tuple[Key, ...]:
     ``shape`` only, when given)."""
     own = tuple(key for key, used in all_keys().values()
                 if key.section == section and (shape is None or shape in used))
+    if section == "slider":
+        own = tuple(key for kind in SLIDING_KINDS.values() for key in kind.keys
+                    if shape is None or kind.shape == shape)
     return GENERAL_KEYS[section] + own
 
 
@@ -131,12 +151,16 @@ def _unit_column(key: Key) -> str:
 def key_table() -> str:
     """The key list of docs/scenes.md, as Markdown."""
     used = {key.name + key.section: shapes_ for key, shapes_ in all_keys().values()}
+    sliding = {"slider": tuple(k for kind in SLIDING_KINDS.values() for k in kind.keys)}
+    used |= {k.name + k.section: (kind.shape,) for kind in SLIDING_KINDS.values()
+             for k in kind.keys}
     rows = ["| key | unit | required | valid | meaning |", "|---|---|---|---|---|"]
     for section, keys in GENERAL_KEYS.items():
         if section and section != "target":
             rows.append(f"| **`[{'[' if section == 'target.layers' else ''}{section}"
                         f"{']' if section == 'target.layers' else ''}]`** | | | | |")
-        for key in keys + tuple(k for k, _ in all_keys().values() if k.section == section):
+        for key in keys + tuple(k for k, _ in all_keys().values() if k.section == section) \
+                + sliding.get(section, ()):
             kinds = used.get(key.name + key.section)
             only = f"{', '.join(kinds)} only; " if kinds and len(kinds) < len(shapes()) else ""
             valid = key.valid_text()

@@ -97,6 +97,7 @@ def test_the_parser_is_assembled_from_the_table_in_its_order():
 
     assert [m.__name__.rsplit(".", 1)[1] for m in cli.COMMANDS] == _command_families()
     sub = next(a for a in cli.build_parser()._actions if a.dest == "command")
-    assert list(sub.choices) == ["impact", "impact-map", "indent", "calibrate", "md",
+    assert list(sub.choices) == ["impact", "impact-map", "slide", "slide-map", "indent",
+                                 "calibrate", "md",
                                  "potentials", "particles", "plan", "run", "sweep", "cancel",
                                  "status", "report"]

@@ -1,8 +1,8 @@
 """Every kind of figure filmscale draws is readable, checked on its Artist tree after a draw:
 the sphere map (two targets and their ratio), the oblique maps over (V, angle) and (V, R), the
 cylinder (edge) map, an elastic map whose residual depth is blank, the impact histories of a
-sphere and a cylinder, the indentation curve analysis and the scene figure of a pipeline
-result. In each: (a) no two visible tick labels of one axis overlap, and no axis writes an
+sphere and a cylinder, the indentation curve analysis, the scene figure of a pipeline
+result, and a sliding contact's x-z field and first-yield map. In each: (a) no two visible tick labels of one axis overlap, and no axis writes an
 offset or multiplier ("1e6") beside them; (b) every axes with
 data has an x and a y label (its own or the figure's shared one), and a dimensional
 quantity's label carries its unit in parentheses; (c) colour-bar tick labels and labels lie
@@ -41,7 +41,7 @@ LAW = contact_law("komvopoulos-ye-continuous")
 #: the span of the issue: 0.1-5 m/s, where the default log axis labelled its minor ticks
 VELOCITY = np.geomspace(0.1, 5.0, 6)
 #: label words of dimensionless quantities, which need no unit
-DIMENSIONLESS = ("restitution", "ratio", "e_y", "e_x", "e_c")
+DIMENSIONLESS = ("restitution", "ratio", "e_y", "e_x", "e_c", "friction coefficient")
 
 
 @functools.cache
@@ -98,6 +98,22 @@ def _curve_figure():
     return plot_curve_analysis(curve, oliver_pharr(curve, "berkovich"), title="Al 7075")
 
 
+def _slide_figures():
+    """The x-z field of a sliding edge on two films, and its first-yield map over (load,
+    friction) crossing first yield and changing the layer that governs."""
+    from filmscale.continuum.contact.slide_map import slide_map
+    from filmscale.continuum.contact.slider import Slider, slide
+    from filmscale.continuum.materials import Layer, LayerStack
+    from filmscale.workflows.slide_plots import plot_slide, plot_slide_map
+    film = ElasticPlastic(E=200e9, nu=0.25, sigma_y=8e9, name="DLC")
+    ru = ElasticPlastic(E=300e9, nu=0.3, sigma_y=3.5e9, name="Ru")
+    stack = LayerStack((Layer(20e-9, film), Layer(30e-9, ru)), STEEL)
+    edge = Slider("cylinder", 10e-6, length=10e-6)
+    field = plot_slide(slide(stack, edge, 2e-2, 0.4, refine=False))
+    mp = slide_map(stack, edge, np.geomspace(1e-3, 0.3, 6), np.linspace(0.0, 1.0, 5))
+    return field, plot_slide_map(mp, title="an edge on two films")
+
+
 FIGURES = {
     "sphere map": lambda tmp: plot_impact_maps(_sphere_maps(), title="a steel sphere"),
     "elastic map": lambda tmp: plot_impact_maps(_elastic_map(),
@@ -112,6 +128,8 @@ FIGURES = {
         CylinderImpactModel(STEEL, 5e-3).history(5.0, 1e-3, 1e-3), kind="cylinder"),
     "curve analysis": lambda tmp: _curve_figure(),
     "scene figure": _scene_result,
+    "slide field": lambda tmp: _slide_figures()[0],
+    "slide map": lambda tmp: _slide_figures()[1],
 }
 
 

@@ -3,8 +3,9 @@
 `run_scene` executes a pipeline scene (`workflows.scene.parse_pipeline`, docs/pipeline.md):
 each layer to calibrate gets its sources' run units and calibration units (`workflows.units`;
 several sources of one layer are then combined by `continuum.calibration.joint`), the plan
-(`workflows.plan`) is completed with the calibrated materials, the impact unit is evaluated,
-and everything goes into one result file (`workflows.result`). Finished units are reused
+(`workflows.plan`) is completed with the calibrated materials, the impact unit (a sliding
+scene: the slide unit, `run_slide`) is evaluated, and everything goes into one result file
+(`workflows.result`). Finished units are reused
 and an interrupted scene resumes where it stopped.
 """
 
@@ -21,11 +22,11 @@ from filmscale.continuum.calibration.result import Calibration, CrossCheck
 from filmscale.continuum.contact.laws import DEFAULT_LAW
 from filmscale.core.errors import InputError
 from filmscale.workflows.plan import Plan, check_request, plan_scene
-from filmscale.workflows.result import write_scene_result
+from filmscale.workflows.result import write_scene_result, write_slide_result
 from filmscale.workflows.pipeline_scene import PipelineScene, filled_data, layer_sources
 from filmscale.workflows.store import done_record, finish_unit, say, unit_dir, unit_lock
 from filmscale.workflows.units import (calibration_part, calibration_unit, impact_evaluation,
-                                       joint_unit, source_units)
+                                       joint_unit, slide_evaluation, source_units)
 
 
 @dataclass(frozen=True)
@@ -46,12 +47,15 @@ class SceneResult:
         import h5py
 
         from filmscale.workflows.outputs import describe, hdf5_format
-        from filmscale.workflows.result import RESULT_FORMAT, RESULT_FORMATS
+        from filmscale.workflows.result import (RESULT_FORMAT, RESULT_FORMATS,
+                                                SLIDE_RESULT_FORMAT)
         path = Path(path)
-        if not path.is_file() or hdf5_format(path) not in RESULT_FORMATS:
+        if not path.is_file() or hdf5_format(path) not in (*RESULT_FORMATS,
+                                                           SLIDE_RESULT_FORMAT):
             what = describe(path) if path.is_file() else "not a file"
             raise InputError(f"{path} is {what}; SceneResult.open expects a scene result "
-                             f"(format {RESULT_FORMAT}, the RESULT.h5 of filmscale run)")
+                             f"(format {RESULT_FORMAT}, or {SLIDE_RESULT_FORMAT} of a sliding "
+                             "scene: the RESULT.h5 of filmscale run)")
         try:
             with h5py.File(path, "r") as f:
                 plan = Plan.from_dict(json.loads(f.attrs["plan"]))
@@ -60,6 +64,34 @@ class SceneResult:
             raise InputError(f"scene result {path} is damaged or incomplete: {err}") from None
         return cls(path, plan, dict(units))
 
+    @property
+    def sliding(self) -> bool:
+        """Whether the result is a sliding scene's (`slide`, `to_dataframe` per layer)."""
+        return bool(self.plan.decisions.get("sliding"))
+
+    def _impact_only(self, what: str) -> None:
+        if self.sliding:
+            raise InputError(f"{self.path} is a sliding scene's result: it has no {what}; "
+                             "its results are SceneResult.slide() and to_dataframe() (one "
+                             "row per layer)")
+
+    def slide(self) -> dict:
+        """A sliding result's ``slide`` group: the result as `SlideResult.to_dict` gives it,
+        each layer row with the ``<quantity>_std`` the calibrations give (p0_std and
+        contact_size_std beside p0), and ``std_note`` where none is propagated."""
+        import h5py
+        if not self.sliding:
+            raise InputError(f"{self.path} is an impact result: it has no slide group")
+        with h5py.File(self.path, "r") as f:
+            g = f["slide"]
+            out = json.loads(g.attrs["result"])
+            std = {k.removesuffix("_std"): g[k][()] for k in g if k.endswith("_std")}
+            out["std_note"] = str(f.attrs.get("std_note", ""))
+        for j, row in enumerate(out["layers"]):
+            row.update({f"{k}_std": float(v[j]) for k, v in std.items() if np.ndim(v)})
+        out.update({f"{k}_std": float(v) for k, v in std.items() if not np.ndim(v)})
+        return out
+
     def to_xarray(self):
         """The impact map (impact/map) as an xarray Dataset over (radius, velocity), SI
         with ``units`` attributes, each field's standard deviation from the calibrations
@@ -67,6 +99,7 @@ class SceneResult:
         left the calibrated layers out, none, and ``attrs["std_note"]`` says why)."""
         import h5py
         import xarray as xr
+        self._impact_only("impact map")
         with h5py.File(self.path, "r") as f:
             groups = [g for g in ("map", "map_std") if g in f["impact"]]
         if "map" not in groups:
@@ -87,9 +120,16 @@ class SceneResult:
         standard deviation from the calibrations (NaN where none), unit (SI) and
         ``std_note``: why the std is NaN (empty where it is a number). Where the plan's
         target holds no calibrated layer (the substrate alone), the std is not computed:
-        NaN with the plan's reason (``decisions["std"]``), also in ``attrs["std_note"]``."""
+        NaN with the plan's reason (``decisions["std"]``), also in ``attrs["std_note"]``.
+        A sliding result: one row per layer (top first, substrate last), its quantities
+        (`SlideResult.layers`, SI) and their ``_std`` (`slide`)."""
         import h5py
         import pandas as pd
+        if self.sliding:
+            d = self.slide()
+            table = pd.DataFrame(d["layers"]).set_index("name")
+            table.attrs["std_note"] = d["std_note"]
+            return table
 
         from filmscale.continuum.contact.kinds import map_units
         units = map_units()
@@ -119,45 +159,21 @@ class SceneResult:
 
     def figure(self):
         """The summary Figure of `filmscale run --figure` (`report.scene_figure`)."""
+        self._impact_only("summary figure (report reads impact results)")
         from filmscale.workflows.report import scene_figure
         return scene_figure(self.path)
 
 
 def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> SceneResult:
-    """Execute the plan: calibrations (MD units), then the impact evaluation; write ``out``."""
+    """Execute the plan: calibrations (MD units), then the impact evaluation (or a sliding
+    scene's slide evaluation, `run_slide`); write ``out``."""
     check_request(pipeline)
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)
     units = {}
-    calibrations: dict[int, Calibration] = {}
-    checks: dict[int, CrossCheck] = {}
-    run_records: dict[str, dict] = {}
-    law = pipeline.data.get("model", {}).get("contact_law", DEFAULT_LAW)
-    for k, sources in layer_sources(pipeline).items():
-        nu = float(pipeline.data["target"]["layers"][k]["nu"])
-        parts, part_units = [], []
-        for src in sources:
-            runs, curves = source_units(src, pipeline.base, store)
-            for path, reused in runs:
-                units[path.name] = "reused" if reused else "ran"
-            record = done_record(runs[0][0]) if runs else None
-            if record is not None:
-                run_records[f"{src.kind}_{k}" + (f"_{len(part_units)}" if len(sources) > 1
-                                                 else "")] = record
-            cal, cal_path, reused = calibration_unit(src, [path for path, _ in runs], curves,
-                                                     nu, law, pipeline.base, store)
-            units[cal_path.name] = "reused" if reused else "ran"
-            part_units.append(cal_path)
-            parts.append((src, cal, curves, src.film(pipeline.base, record)))
-        if len(sources) > 1:
-            cal, cal_path, reused = joint_unit(
-                sources[0].name, lambda: [calibration_part(*p, law) for p in parts],
-                part_units, store)
-            units[cal_path.name] = "reused" if reused else "ran"
-        calibrations[k] = cal
-        checks[k] = [cal.cross_check(s.tolerance, s.label if len(sources) > 1 else "",
-                                     s.exclude) for s in sources]
-        say(cal.summary() + "".join(f"\n  {c.text()}" for c in checks[k]))
+    calibrations, checks, run_records = calibrate_layers(pipeline, store, units)
+    if pipeline.sliding:
+        return run_slide(pipeline, store, out, (calibrations, checks, run_records), units)
     materials = {k: c.material() for k, c in calibrations.items()}
     h_star = {k: c.h_star.value for k, c in calibrations.items()
               if c.h_star is not None and math.isfinite(c.h_star.value)}
@@ -185,6 +201,74 @@ def run_scene(pipeline: PipelineScene, store: Path | str, out: Path | str) -> Sc
     path = write_scene_result(out, pipeline, scene, plan, calibrations, checks, impact_path,
                               run_records)
     return SceneResult(path, plan, units)
+
+
+def calibrate_layers(pipeline: PipelineScene, store: Path, units: dict
+                     ) -> tuple[dict[int, Calibration], dict[int, list[CrossCheck]], dict]:
+    """Each layer's calibration units (its sources' run units, their calibrations, a joint
+    one for several sources), computed or reused; ``units`` gets each unit's "ran" or
+    "reused". Returns (calibrations, cross-scale checks, run records) by layer."""
+    calibrations: dict[int, Calibration] = {}
+    checks: dict[int, list[CrossCheck]] = {}
+    run_records: dict[str, dict] = {}
+    law = pipeline.data.get("model", {}).get("contact_law", DEFAULT_LAW)
+    for k, sources in layer_sources(pipeline).items():
+        nu = float(pipeline.data["target"]["layers"][k]["nu"])
+        parts, part_units = [], []
+        for src in sources:
+            runs, curves = source_units(src, pipeline.base, store)
+            for path, reused in runs:
+                units[path.name] = "reused" if reused else "ran"
+            record = done_record(runs[0][0]) if runs else None
+            if record is not None:
+                run_records[f"{src.kind}_{k}" + (f"_{len(part_units)}" if len(sources) > 1
+                                                 else "")] = record
+            cal, cal_path, reused = calibration_unit(src, [path for path, _ in runs], curves,
+                                                     nu, law, pipeline.base, store)
+            units[cal_path.name] = "reused" if reused else "ran"
+            part_units.append(cal_path)
+            parts.append((src, cal, curves, src.film(pipeline.base, record)))
+        if len(sources) > 1:
+            cal, cal_path, reused = joint_unit(
+                sources[0].name, lambda: [calibration_part(*p, law) for p in parts],
+                part_units, store)
+            units[cal_path.name] = "reused" if reused else "ran"
+        calibrations[k] = cal
+        checks[k] = [cal.cross_check(s.tolerance, s.label if len(sources) > 1 else "",
+                                     s.exclude) for s in sources]
+        say(cal.summary() + "".join(f"\n  {c.text()}" for c in checks[k]))
+    return calibrations, checks, run_records
+
+
+def run_slide(pipeline: PipelineScene, store: Path, out: Path | str, calibrated: tuple,
+              units: dict) -> SceneResult:
+    """A sliding scene after its calibrations (``calibrated``: `calibrate_layers`'
+    calibrations, checks and run records): the slide unit (`units.slide_evaluation`, hashed
+    over the completed scene data, friction, load and the calibrations' spread), computed or
+    reused, then the result file (`result.write_slide_result`)."""
+    calibrations, checks, run_records = calibrated
+    materials = {k: c.material() for k, c in calibrations.items()}
+    scene = pipeline.slide_scene(materials)
+    spread = parameter_spread(calibrations)
+    correlation = spread_correlation(calibrations, spread)
+    completed = filled_data(pipeline.data, materials, None)
+    path = unit_dir(store, "slide", {"scene": completed, "friction": scene.friction,
+                                     "normal_load": scene.normal_load, "spread": spread,
+                                     "correlation": correlation.tolist()})
+    with unit_lock(path):
+        record = done_record(path)
+        units[path.name] = "reused" if record is not None else "ran"
+        if record is None:
+            record = finish_unit(path, slide_evaluation(scene, path, spread, correlation),
+                                 ("slide.npz",))
+    plan = plan_scene(pipeline, materials, slide_cost_s=record["slide_seconds"])
+    say("plan:\n" + plan.text())
+    note = "" if spread else ("not propagated: " + (
+        "the calibrations identified no E or sigma_y with a standard deviation"
+        if calibrations else "no layer is calibrated"))
+    written = write_slide_result(out, pipeline, plan, calibrations, checks, path, record,
+                                 run_records, completed, note)
+    return SceneResult(written, plan, units)
 
 
 def parameter_spread(calibrations: dict[int, Calibration]) -> list[tuple[int, str, float]]:

@@ -21,8 +21,8 @@ def _store_folder(store) -> Path:
 
 
 def _scene_result_kind():
-    from .result import RESULT_FORMATS
-    return hdf5_kind(RESULT_FORMATS, "a scene result")
+    from .result import RESULT_FORMATS, SLIDE_RESULT_FORMAT
+    return hdf5_kind((*RESULT_FORMATS, SLIDE_RESULT_FORMAT), "a scene result")
 
 
 #: the index of a sweep's scenes that `sweep run` writes
@@ -41,6 +41,10 @@ def cmd_run(args) -> int:
     from .pipeline_scene import load_pipeline
     scene = Path(args.scene)
     pipeline = load_pipeline(scene)             # every input checked before any run
+    if pipeline.sliding and args.report:
+        raise InputError("--report: the HTML report reads impact results; a sliding scene's "
+                         "result holds its table in the slide group, which `filmscale run` "
+                         "prints")
     out = output_path("--out", args.out or Path("results") / f"{scene.stem}.h5")
     store = _store_folder(args.store)
     check_outputs([("the input scene", scene),
@@ -55,6 +59,9 @@ def cmd_run(args) -> int:
     if args.report:
         from .report import write_report
         print(f"filmscale: report {write_report(result.path)}", file=sys.stderr)
+    if result.sliding:
+        from .slide_cli import slide_table
+        print(slide_table(result.slide()))
     print(result.path)
     if args.strict:
         reasons = _strict_reasons(result.path)
@@ -155,7 +162,7 @@ def _plan_sweep(scenes) -> int:
           f"{default_jobs(scenes)} at a time here")
     for w in unused_keys(scenes, [p.decisions for p in plans]):
         print(f"filmscale: warning: {w['text']}", file=sys.stderr)
-    waiting = sum("law" not in p.decisions for p in plans)
+    waiting = sum("law" not in p.decisions and not p.decisions.get("sliding") for p in plans)
     if waiting:
         print(f"filmscale: {waiting} scene(s) choose their impact models after calibration; "
               "`filmscale sweep run` checks their swept keys then", file=sys.stderr)
@@ -289,8 +296,13 @@ def _status_line(r: dict) -> str:
 
 
 def cmd_report(args) -> int:
-    from .outputs import image_kind
+    from .outputs import hdf5_format, image_kind
     from .report import check_result, write_figure, write_report
+    from .result import SLIDE_RESULT_FORMAT
+    if Path(args.result).is_file() and hdf5_format(Path(args.result)) == SLIDE_RESULT_FORMAT:
+        raise InputError(f"{args.result} is a sliding scene's result: `filmscale report` "
+                         "reads impact results; the sliding table is in its slide group "
+                         "(`filmscale run` prints it, SceneResult.slide() reads it)")
     result = check_result(args.result)
     out = output_path("--out", args.out or result.with_suffix(".html"))
     figure = plot_path("--figure", args.figure)

@@ -1,7 +1,9 @@
 """Pipeline scenes: a scene whose layers may be calibrated from sources (MD or particle runs,
 curve files) instead of stated, with the outputs it asks for. `parse_pipeline` checks every
 key before any unit runs; `PipelineScene.completed` fills the calibrated materials in and
-gives the `Scene` of `workflows.scene`. See docs/pipeline.md and docs/scenes.md.
+gives the `Scene` of `workflows.scene`. A sliding scene (a [slider] instead of an
+[impactor], `workflows.slide_scene`) takes the same sources; `PipelineScene.slide_scene`
+gives its `SlideScene`. See docs/pipeline.md and docs/scenes.md.
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ from filmscale.core.files import parse_toml, read_text
 from filmscale.workflows.scene import (MATERIAL_KEYS, MapSpec, Scene, check_layer_headers,
                                        check_scene_data, material, read_impactor,
                                        read_map_spec, scene_from_data, si_quantities)
+from filmscale.workflows.slide_scene import (SLIDE_OUTPUTS, SlideScene, check_slide_data,
+                                             slide_scene_from_data)
 
 
 OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
@@ -158,6 +162,11 @@ class PipelineScene:
     angle: float
 
     @property
+    def sliding(self) -> bool:
+        """Whether this is a sliding scene (a [slider]; `slide_scene`), not an impact."""
+        return "slider" in self.data
+
+    @property
     def model_target(self) -> str:
         """``model.target`` (checked by `parse_pipeline`): "auto", "layered" or "substrate"."""
         model = self.data.get("model")
@@ -174,6 +183,12 @@ class PipelineScene:
         length h*, where calibrated) filled in."""
         return scene_from_data(filled_data(self.data, materials, h_star), self.text, self.source,
                                self.base)
+
+    def slide_scene(self, materials: dict[int, ElasticPlastic]) -> SlideScene:
+        """The sliding scene with each calibrated layer's E and sigma_y filled in (a Nix-Gao
+        length is not: the sliding stresses are elastic, and a sliding scene takes none)."""
+        return slide_scene_from_data(filled_data(self.data, materials, None), self.text,
+                                     self.source)
 
 
 def filled_data(data: dict, materials: dict[int, ElasticPlastic],
@@ -252,33 +267,54 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
                              tip_material, thickness, substrate, exclude, seeds, zero)
 
 
-def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
-                   ) -> PipelineScene:
-    """Validate a pipeline scene; an MD spec is loaded (and checked) here, before any run."""
-    base = Path(".") if base is None else base
-    check_layer_headers(text)
-    data = si_quantities(parse_toml(text, "scene", source))
+def _outputs(data: dict, sliding: bool) -> tuple[list, float]:
+    """[outputs] want and tolerance, checked: an impact scene's outputs (`OUTPUTS`), or a
+    sliding scene's (`SLIDE_OUTPUTS`), which refuses the impact-only ones by name."""
     outputs = data.pop("outputs", {})
     if not isinstance(outputs, dict) or set(outputs) - {"want", "tolerance"}:
         raise InputError("[outputs] takes want (a list) and tolerance; got "
                          f"{sorted(outputs) if isinstance(outputs, dict) else outputs!r}")
-    want = outputs.get("want", ["maxima"])
+    valid = SLIDE_OUTPUTS if sliding else OUTPUTS
+    want = outputs.get("want", [valid[0]])
     if not isinstance(want, list) or not want:
-        raise InputError(f"outputs.want must be a list from {', '.join(OUTPUTS)}; got {want!r}")
+        raise InputError(f"outputs.want must be a list from {', '.join(valid)}; got {want!r}")
     for i, w in enumerate(want):
-        check_choice(f"outputs.want[{i}]", w, OUTPUTS)
+        if sliding and w in OUTPUTS:
+            raise InputError(f"outputs.want[{i}] = {w!r} is an impact output; a sliding scene "
+                             f"([slider]) computes {', '.join(SLIDE_OUTPUTS)} (the choices of "
+                             "outputs.want)")
+        check_choice(f"outputs.want[{i}]", w, valid)
     # 0: keep everything the rules can keep (rule 3 keeps the films whenever they change
     # the maxima at all; docs/pipeline.md, "The plan")
     tolerance = check_real("outputs.tolerance", outputs.get("tolerance", 0.05), low=0.0,
                            high=0.5)
-    imp = data.get("impactor", {})
+    return want, tolerance
+
+
+def _motion(data: dict, sliding: bool) -> tuple[float, float]:
+    """(friction, angle in degrees) of the scene: [contact] friction; an impactor's angle
+    (a slider slides along its surface: 0)."""
     contact = data.get("contact") if isinstance(data.get("contact"), dict) else {}
+    imp = data.get("impactor", {}) if not sliding else {}
     if "friction" in imp:
         raise InputError("impactor.friction: the friction coefficient is [contact] friction, "
                          "as in `filmscale impact` (docs/scenes.md)")
     friction = check_real("contact.friction", contact.get("friction", 0.0), low=0.0, high=10.0)
-    angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
-                       high_open=True, unit="degrees")
+    angle = 0.0 if sliding else check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0,
+                                           high=90.0, high_open=True, unit="degrees")
+    return friction, angle
+
+
+def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
+                   ) -> PipelineScene:
+    """Validate a pipeline scene, an impact scene or a sliding one (a [slider]); an MD spec
+    is loaded (and checked) here, before any run."""
+    base = Path(".") if base is None else base
+    check_layer_headers(text)
+    data = si_quantities(parse_toml(text, "scene", source))
+    sliding = "slider" in data
+    want, tolerance = _outputs(data, sliding)
+    friction, angle = _motion(data, sliding)
     sources = []
     layers = data.get("target", {}).get("layers", [])
     if isinstance(layers, list):
@@ -303,7 +339,8 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)
     # every other key checked now, the calibrated layers' E and sigma_y excepted
-    check_scene_data(data, pending={s.layer for s in sources})
+    (check_slide_data if sliding else check_scene_data)(data, pending={s.layer
+                                                                       for s in sources})
     return pipeline
 
 

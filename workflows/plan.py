@@ -22,6 +22,9 @@ Rules (docs/physics.md; benchmarks/impact_speed_vs_error.py):
    (with a tolerance of 0: every setting the table measured to move E, an ensemble always,
    and no cheaper setting).
 Rules 1, 2, 4 and 5 read no tolerance.
+
+A sliding scene ([slider], `plan_slide`) has rules 1 and 6 (its calibrations) and one sliding
+model, which the slider's shape and the stack decide: no rule of 2-5 applies.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ import numpy as np
 
 from filmscale.continuum.contact.kinds import ModelKind, kind_for
 from filmscale.continuum.contact.laws import contact_law
+from filmscale.continuum.contact.slider import sliding_kind
 from filmscale.continuum.materials import ElasticPlastic, LayerStack
 from filmscale.core.errors import InputError
 from filmscale.workflows.md_settings import md_settings_advice
@@ -199,7 +203,10 @@ def check_request(pipeline: PipelineScene) -> None:
     """What the impact rules refuse whatever the calibrations find: an oblique or tangential
     request (rule 2), model.target = "layered" without films (rule 3), a shape without an
     oblique model, and a map without valid axes. `plan` and `run` check it before any unit
-    runs, so that a run never stops there after its MD runs."""
+    runs, so that a run never stops there after its MD runs. A sliding scene has none of
+    these (`parse_pipeline` checked it whole)."""
+    if pipeline.sliding:
+        return
     _check_direction(pipeline.outputs, pipeline.friction, pipeline.angle)
     target = pipeline.data.get("target")
     if pipeline.model_target == "layered" and isinstance(target, dict) and \
@@ -457,11 +464,66 @@ def _uncertainty_step(pipeline: PipelineScene, scene: Scene, target: str) -> Ste
                 "the error of the target step stands instead", 0.0)
 
 
+def _slide_target(layers: int) -> tuple[str, str, str]:
+    """(target, its words, how the contact is sized) of a sliding stack of ``layers`` films."""
+    if not layers:
+        return "homogeneous", "homogeneous target", "Hertz"
+    how = ("the coated half-space's apparent modulus" if layers == 1 else
+           "the Gao-weighted modulus of the stack")
+    return ("layered", f"layered target ({layers} layer(s) on the substrate)",
+            f"Hertz pressure at the self-consistent contact size of {how}")
+
+
+def plan_slide(pipeline: PipelineScene, stack: LayerStack | None = None,
+               cost_s: float | None = None) -> tuple[list[Step], dict]:
+    """The sliding steps of a sliding scene: its model (the slider's kind: 2-D plane strain
+    for a cylinder, 3-D for a sphere; homogeneous or layered; the x-z field grid per layer)
+    and, with calibrated layers, how their spread reaches the results. ``stack``: the
+    completed stack (None while calibrations wait; then the cost is "after calibration");
+    ``cost_s``: the evaluation's measured wall time, else one `slide` is timed here."""
+    from filmscale.continuum.contact.slider import FIELD_NX, FIELD_NZ, ZOOM_LEVELS, slide
+    from filmscale.workflows.slide_scene import read_slider
+    slider, load = read_slider(pipeline.data)
+    layers = len(pipeline.data["target"].get("layers", []))
+    kind = sliding_kind(slider.shape)
+    target, words, sizing = _slide_target(layers)
+    dimension = ("2-D plane strain" if kind.dimension == "2-D" else "3-D") + \
+        f" ({slider.shape})"
+    if cost_s is None and stack is not None:
+        cost_s = _timed(lambda: slide(stack, slider, load, pipeline.friction))[1]
+    cost = math.nan if cost_s is None else cost_s
+    grid = (f"{FIELD_NX} x {FIELD_NZ} points (x by depth) per film, {FIELD_NX} x "
+            f"{3 * FIELD_NZ} in the substrate ({layers} film(s)), each maximum refined by "
+            f"{ZOOM_LEVELS} zoomed grids")
+    steps = [Step("sliding", f"{dimension}, {words}: {sizing}, "
+                  f"q = mu p (P = {load:.3g} N, mu = {pipeline.friction:g}); field {grid}",
+                  f"outputs.want = {sorted(pipeline.outputs)}: each layer's largest von "
+                  "Mises stress and where, its ratio to sigma_y, tension and interface shear; "
+                  "the shakedown where modelled (docs/sliding.md)",
+                  "exact Hertz tractions on a homogeneous target" if target == "homogeneous"
+                  else "the pressure keeps Hertz's shape at the layered contact size "
+                  "(docs/sliding.md)", cost)]
+    if pipeline.calibrations:
+        shifts = len({s.layer for s in pipeline.calibrations})
+        steps.append(Step(
+            "uncertainty", "the slide again at each calibrated layer's E + std",
+            "the calibrations' standard deviations reach the yield ratios, stresses, p0 and "
+            "contact size (linearised with each layer's E-sigma_y correlation; a sigma_y + "
+            "std changes its layer's yield ratio alone: the stresses are elastic)",
+            "linearised", cost * shifts))
+    return steps, {"sliding": True, "kind": kind.name, "shape": slider.shape,
+                   "dimension": kind.dimension, "target": target, "layers": layers,
+                   "field_grid": [FIELD_NX, FIELD_NZ], "normal_load": load,
+                   "friction": pipeline.friction}
+
+
 def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | None = None,
-               h_star: dict[int, float] | None = None) -> Plan:
+               h_star: dict[int, float] | None = None, slide_cost_s: float | None = None
+               ) -> Plan:
     """The whole plan; impact steps wait for the calibrations unless all layers are known.
     The calibration steps stay in the plan once done, so that the stored plan is complete.
-    ``decisions["std"]``, where set, says why the results carry no standard deviation."""
+    ``decisions["std"]``, where set, says why the results carry no standard deviation. A
+    sliding scene's steps are `plan_slide`'s (``slide_cost_s``: its measured cost)."""
     steps = []
     for sources in layer_sources(pipeline).values():
         steps += [_calibration_step(s, pipeline.base, len(sources) > 1, pipeline.tolerance)
@@ -469,6 +531,10 @@ def plan_scene(pipeline: PipelineScene, calibrated: dict[int, ElasticPlastic] | 
         if len(sources) > 1:
             steps.append(_joint_step(sources[0].name, sources))
     missing = [s for s in pipeline.calibrations if not calibrated or s.layer not in calibrated]
+    if pipeline.sliding:
+        stack = None if missing else pipeline.slide_scene(calibrated or {}).stack
+        slide_steps, decisions = plan_slide(pipeline, stack, slide_cost_s)
+        return Plan(tuple(steps + slide_steps), decisions)
     if missing:
         check_request(pipeline)
         pending, decisions = _pending_steps(pipeline)
@@ -501,11 +567,13 @@ _FRICTION_KEYS = ("contact.friction",)
 def left_out(key: str, decisions: dict, angle: float) -> tuple[int, str, str] | None:
     """(the rule, why, how to keep it) when the plan of ``decisions`` (for an impactor at
     ``angle`` degrees) models nothing the dotted scene ``key`` sets, so that its value cannot
-    change the impact results; None when it may. Two cases are known: a key of the films (a
+    change the impact results; None when it may (always for a sliding scene). Two cases are known: a key of the films (a
     layer or the measured profile) where the plan models the substrate alone (rule 3, or
     model.target), and the friction of a normal approach (rule 2: no tangential force)."""
     def under(prefixes):
         return any(key == p or key.startswith(p + ".") for p in prefixes)
+    if decisions.get("sliding"):        # a slider's friction and films always count
+        return None
     if under(_FILM_KEYS) and decisions.get("target") == "substrate":
         if decisions.get("model_target") == "substrate":
             return (3, 'the scene forces model.target = "substrate"',

@@ -54,35 +54,9 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
     check per source; each ``curve_<i>`` of a joint calibration names its ``source``."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    extra = {k: dumps(r) for k, r in run_records.items()}
     with atomic_h5(out) as f:
-        f.attrs["format"] = RESULT_FORMAT
-        for k, v in provenance(scene=pipeline.source, **extra).items():
-            f.attrs[k] = v
-        f.create_dataset("scene", data=pipeline.text)
-        f.attrs["plan"] = dumps(plan.to_dict())
-        g = f.create_group("calibration")
-        for k, cal in calibrations.items():
-            c = g.create_group(str(k))
-            c.attrs["layer"] = cal.layer
-            c.attrs["calibration"] = dumps(cal.to_dict())
-            for name in ("E", "sigma_y", "n", "h_star"):
-                p = getattr(cal, name)
-                if p is None:
-                    continue
-                c.attrs[name] = p.value
-                c.attrs[f"{name}_std"] = p.std
-                c.attrs[f"{name}_identified"] = p.identified
-            c.attrs["cross_check"] = dumps([check.to_dict() for check in checks[k]])
-            for i, (h, P, F) in enumerate(cal.fitted_curves):
-                curve = c.create_group(f"curve_{i}")
-                if cal.curve_sources:
-                    curve.attrs["source"] = cal.curve_sources[i]
-                for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
-                    curve.create_dataset(name, data=data).attrs["units"] = unit
-                if cal.fit_roles:
-                    # 1: sets E, 2: sets sigma_y, 3: both, 0: not fitted
-                    curve.create_dataset("fitted_for", data=cal.fit_roles[i])
+        write_result_header(f, RESULT_FORMAT, pipeline, plan, run_records)
+        write_calibrations(f.create_group("calibration"), calibrations, checks)
         prof = profile_table(scene, scene.impactor.radius)
         p = f.create_group("profile")
         for name, unit in (("delta", "m"), ("E_p", "Pa"), ("sigma_y", "Pa"), ("nu", "1")):
@@ -104,6 +78,97 @@ def write_scene_result(out, pipeline: PipelineScene, scene: Scene, plan: Plan,
                     i.create_dataset(f"{group}/{name}", data=value)
     return out
 
+
+
+def write_result_header(f: h5py.File, fmt: str, pipeline: PipelineScene, plan: Plan,
+                        run_records: dict[str, dict]) -> None:
+    """What every scene result starts with: its ``format``, the provenance attributes with
+    each run unit's record (JSON) under its key, the scene text (``scene``) and the plan
+    (``plan``, JSON)."""
+    f.attrs["format"] = fmt
+    extra = {k: dumps(r) for k, r in run_records.items()}
+    for k, v in provenance(scene=pipeline.source, **extra).items():
+        f.attrs[k] = v
+    f.create_dataset("scene", data=pipeline.text)
+    f.attrs["plan"] = dumps(plan.to_dict())
+
+
+def write_calibrations(g: h5py.Group, calibrations: dict[int, Calibration],
+                       checks: dict[int, list[CrossCheck]]) -> h5py.Group:
+    """The ``calibration`` group of a scene result (impact or sliding): per calibrated layer
+    ``<layer>``, its parameters with their standard deviations and identifiability as
+    attributes, the calibration and its cross-scale checks (one per source) as JSON, and
+    per fitted curve ``curve_<i>`` its h, P and the forward model's P_model (SI, ``units``;
+    ``source`` in a joint calibration; ``fitted_for``: 1 sets E, 2 sigma_y, 3 both)."""
+    for k, cal in calibrations.items():
+        c = g.create_group(str(k))
+        c.attrs["layer"] = cal.layer
+        c.attrs["calibration"] = dumps(cal.to_dict())
+        for name in ("E", "sigma_y", "n", "h_star"):
+            p = getattr(cal, name)
+            if p is None:
+                continue
+            c.attrs[name] = p.value
+            c.attrs[f"{name}_std"] = p.std
+            c.attrs[f"{name}_identified"] = p.identified
+        c.attrs["cross_check"] = dumps([check.to_dict() for check in checks[k]])
+        for i, (h, P, F) in enumerate(cal.fitted_curves):
+            curve = c.create_group(f"curve_{i}")
+            if cal.curve_sources:
+                curve.attrs["source"] = cal.curve_sources[i]
+            for name, data, unit in (("h", h, "m"), ("P", P, "N"), ("P_model", F, "N")):
+                curve.create_dataset(name, data=data).attrs["units"] = unit
+            if cal.fit_roles:
+                # 1: sets E, 2: sets sigma_y, 3: both, 0: not fitted
+                curve.create_dataset("fitted_for", data=cal.fit_roles[i])
+    return g
+
+
+#: the result of a sliding scene (`write_slide_result`)
+SLIDE_RESULT_FORMAT = "filmscale.slide_result/1"
+#: the per-layer quantities of a slide (`SlideResult.layers`) in a slide unit and result, and
+#: their units
+SLIDE_LAYER_UNITS = {"von_mises_max": "Pa", "x": "m", "z": "m", "yield_ratio": "1",
+                     "tensile_max": "Pa", "interface_shear_max": "Pa", "z_top": "m",
+                     "z_bottom": "m"}
+
+
+def write_slide_result(out, pipeline: PipelineScene, plan: Plan,
+                       calibrations: dict[int, Calibration],
+                       checks: dict[int, list[CrossCheck]], slide_path: Path,
+                       record: dict, run_records: dict[str, dict], completed: dict,
+                       std_note: str = "") -> Path:
+    """A sliding scene's result: the header and calibrations of every scene result
+    (`write_result_header`, `write_calibrations`), then the ``slide`` group: the result as
+    JSON (``result``, `SlideResult.to_dict`), the completed scene data (``completed_scene``,
+    JSON: the calibrated E and sigma_y filled in), the layer names; per layer (top first,
+    substrate last) each quantity of `units.SLIDE_LAYER_UNITS` and its ``<name>_std`` from
+    the calibrations where propagated; p0 and the contact size (a or b); and ``slide/field``
+    (x (nx), z (layers, nz), von_mises (layers, nz, nx)). SI with ``units``. ``std_note``
+    (an attribute) says why no standard deviation is there, where none is. ``record``: the
+    slide unit's (`units.slide_evaluation`), ``slide_path`` its folder."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with np.load(slide_path / "slide.npz") as d:
+        arrays = {key: d[key] for key in d.files}
+    units = {**SLIDE_LAYER_UNITS, "p0": "Pa", "contact_size": "m"}
+    with atomic_h5(out) as f:
+        write_result_header(f, SLIDE_RESULT_FORMAT, pipeline, plan, run_records)
+        write_calibrations(f.create_group("calibration"), calibrations, checks)
+        if std_note:
+            f.attrs["std_note"] = std_note
+        g = f.create_group("slide")
+        g.attrs["result"] = dumps(record["slide"])
+        g.attrs["completed_scene"] = dumps(completed)
+        g.attrs["layer_names"] = dumps([r["name"] for r in record["slide"]["layers"]])
+        for key, value in arrays.items():
+            if key.startswith("field_"):
+                continue
+            g.create_dataset(key, data=value).attrs["units"] = units[key.removesuffix("_std")]
+        field = g.create_group("field")
+        for key, unit in (("x", "m"), ("z", "m"), ("layer", "1"), ("von_mises", "Pa")):
+            field.create_dataset(key, data=arrays[f"field_{key}"]).attrs["units"] = unit
+    return out
 
 
 #: /2: each target's group holds its own axes as dimension scales (`write_map_group`)

@@ -369,6 +369,8 @@ def _reads(path: Path, folder: int) -> tuple[str, ...]:
         return ("fit.npz",)
     if kind == "impact":
         return ("impact.npz",)
+    if kind == "slide":
+        return ("slide.npz",)
     if kind == "particle-indent":
         return (CURVE_ARRAYS,)
     if kind == "md-indent":         # `unit_curve` reads the arrays where a unit holds them

@@ -1,5 +1,6 @@
 """The run units of a scene: an MD or particle-model indentation, a calibration (of one
-source or several jointly) and the impact evaluation, each computed in (or reused from) its
+source or several jointly) and the impact evaluation (or a sliding scene's slide
+evaluation), each computed in (or reused from) its
 folder of the unit store (`workflows.store`: ``STORE/<kind>-<hash>``, the hash over its
 physics inputs and the code version; ``done.json`` with checksums; one process per unit; a
 corrupted unit set aside and computed again; an interrupted MD unit resumed from its last
@@ -7,7 +8,7 @@ restart file). Every file of a unit is written atomically."""
 
 from __future__ import annotations
 
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ from filmscale.continuum.calibration.route import calibrate, sharp_tip_of, tip_c
 from filmscale.core.files import atomic_path
 from filmscale.workflows.plan import Plan, chosen_model
 from filmscale.workflows.progress import progress_bar, step_callback
+from filmscale.workflows.result import SLIDE_LAYER_UNITS
 from filmscale.workflows.scene import Scene
 from filmscale.workflows.pipeline_scene import CalibrationSource
 from filmscale.workflows.store import (CURVE_ARRAYS, MD_RECORD, done_record, finish_unit,
@@ -297,3 +299,74 @@ def impact_evaluation(scene: Scene, plan: Plan, path: Path, perturbed=(), correl
     with atomic_path(path / "impact.npz") as tmp:
         with open(tmp, "wb") as f:
             np.savez(f, **{k.replace("/", "__"): np.asarray(v) for k, v in arrays.items()})
+
+
+#: the quantities of a slide evaluation that carry a standard deviation from the calibrations
+SLIDE_UNCERTAIN = ("von_mises_max", "yield_ratio", "tensile_max", "interface_shear_max",
+                   "p0", "contact_size")
+
+
+def slide_arrays(result) -> dict[str, np.ndarray]:
+    """A `SlideResult` as arrays (SI): per layer (top first, substrate last) each of
+    `SLIDE_LAYER_UNITS` (NaN where a row has none: a yield ratio without sigma_y, the
+    substrate's interface shear, its infinite bottom stays inf), p0 and the contact size,
+    and the x-z field: ``field_x`` (nx), ``field_z`` (rows: every layer's depths, top
+    first), ``field_layer`` (rows: the layer of each) and ``field_von_mises`` (rows, nx)."""
+    from filmscale.continuum.contact.slider import field_von_mises
+    arrays = {key: np.array([np.nan if getattr(r, key) is None else getattr(r, key)
+                             for r in result.layers], dtype=float)
+              for key in SLIDE_LAYER_UNITS}
+    arrays["p0"] = np.float64(result.contact.p0)
+    arrays["contact_size"] = np.float64(result.contact.size)
+    x, depths, vm = field_von_mises(result)
+    arrays.update(field_x=np.asarray(x), field_z=np.concatenate(depths),
+                  field_layer=np.concatenate([np.full(z.size, j) for j, z in enumerate(depths)]),
+                  field_von_mises=np.concatenate(vm))
+    return arrays
+
+
+def shifted_slide(scene, base: dict, layer: int, name: str, value: float) -> dict:
+    """The arrays of `slide_arrays` with one calibrated parameter shifted: E by a new slide;
+    sigma_y (the stresses are elastic and do not depend on it) by the layer's yield ratio
+    alone, exactly."""
+    from filmscale.continuum.contact.slider import slide
+    from filmscale.continuum.materials import Layer, LayerStack
+    if name == "sigma_y":
+        ratio = base["yield_ratio"].copy()
+        ratio[layer] = base["von_mises_max"][layer] / value
+        return {**base, "yield_ratio": ratio}
+    layers = list(scene.stack.layers)
+    old = layers[layer]
+    layers[layer] = Layer(old.thickness, replace(old.material, E=value))
+    stack = LayerStack(tuple(layers), scene.stack.substrate)
+    return slide_arrays(slide(stack, scene.slider, scene.normal_load, scene.friction))
+
+
+def slide_evaluation(scene, path: Path, spread=(), correlation=None) -> dict:
+    """The slide of a completed `SlideScene` (`continuum.contact.slider.slide`) into unit
+    ``path``: ``slide.npz`` (`slide_arrays`) and, with ``spread`` ((layer, "E" or "sigma_y",
+    value + std) of the calibrated parameters, `pipeline.parameter_spread`), the standard
+    deviations ``<name>_std`` of `SLIDE_UNCERTAIN`, linearised as the impact's
+    (`impact_evaluation`: std^2 = sum_ij rho_ij d_i d_j). Returns the record: the result's
+    ``to_dict``, the wall time of the one slide (``slide_seconds``) and of the whole unit."""
+    import time
+
+    from filmscale.continuum.contact.slider import slide
+    own_folder(path)
+    start = time.perf_counter()
+    result = slide(scene.stack, scene.slider, scene.normal_load, scene.friction)
+    one = time.perf_counter() - start
+    arrays = slide_arrays(result)
+    if spread:
+        rho = np.eye(len(spread)) if correlation is None else np.asarray(correlation)
+        shifts = [shifted_slide(scene, arrays, *shift) for shift in spread]
+        for key in SLIDE_UNCERTAIN:
+            d = np.stack([np.asarray(other[key], dtype=float) - arrays[key]
+                          for other in shifts])
+            var = np.einsum("i...,ij,j...->...", d, rho, d)
+            arrays[f"{key}_std"] = np.sqrt(np.clip(var, 0.0, None))
+    with atomic_path(path / "slide.npz") as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, **arrays)
+    return {"slide": result.to_dict(), "slide_seconds": one,
+            "wall_time": time.perf_counter() - start}

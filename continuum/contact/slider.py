@@ -27,14 +27,15 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize
 
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 from filmscale.core.keys import REQUIRED, Key
 
 from ..materials import ElasticPlastic, LayerStack
-from .sliding import check_friction, cylinder_shakedown_pressure, principal_stresses, von_mises
+
+# scipy and the stress fields are imported where they are used: the scene reader imports this
+# module for the sliding kinds' keys, and `filmscale impact` loads no scipy sub-package
 
 #: points per layer across its depth, and along x, of the field that `slide` reports and plots
 FIELD_NZ = 24
@@ -174,6 +175,7 @@ def contact(stack: LayerStack, slider: Slider, load: float) -> SlideContact:
     if hi / lo - 1.0 < 1e-12:
         size = lo
     else:
+        from scipy import optimize
         size = math.exp(optimize.brentq(gap, math.log(lo) - 1e-9, math.log(hi) + 1e-9,
                                         xtol=1e-12, rtol=1e-12))
     E_star = _contact_modulus(stack, slider, size)
@@ -307,6 +309,7 @@ def _zoom(measure, x0, z0, dx, dz, x_lim, z_lim):
 
 def _layer_row(kind, stack, size, p0, mu, x, z, f, name, sigma_y, j, refine):
     """One layer's row of the table from its grid field ``f`` (depths z), refined locally."""
+    from .sliding import principal_stresses, von_mises
     n_layers = len(stack.layers)
     x_lim = (float(x[0]), float(x[-1]))
     z_lim = (float(z[0]), float(z[-1]))
@@ -364,6 +367,7 @@ def slide(stack: LayerStack, slider: Slider, load: float, mu: float,
     its largest principal stress and the largest shear on its bottom interface, each grid
     maximum refined by zoomed grids (``refine``, `_zoom`); the surface's largest tension; the
     shakedown answer."""
+    from .sliding import check_friction, principal_stresses
     mu = check_friction(mu)
     if not isinstance(nx, int) or not 11 <= nx <= 2001:
         raise InputError(f"nx = {nx!r} must be an integer in [11, 2001]")
@@ -390,6 +394,7 @@ def slide(stack: LayerStack, slider: Slider, load: float, mu: float,
 
 def field_von_mises(result: SlideResult) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray]]:
     """(x, depths per layer, von Mises per layer) of a result's x-z field (m, Pa)."""
+    from .sliding import von_mises
     f = result.field
     return f["x"], f["depths"], [von_mises(s) for s in f["stresses"]]
 
@@ -430,6 +435,7 @@ def _sphere_unit_fields(x, z, stack, size):
 
 
 def _cylinder_shakedown(material, mu):
+    from .sliding import cylinder_shakedown_pressure
     return cylinder_shakedown_pressure(mu, material.nu) * material.sigma_y / math.sqrt(3.0)
 
 

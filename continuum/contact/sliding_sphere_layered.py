@@ -243,7 +243,7 @@ def _nodes(l_min, r_max, L_max):
     """Composite Gauss-Legendre nodes on [0, DECAY_CUT / l_min] (units 1/a) and their weights
     times the load's j1(s) (the Hertz pressure's transform, (1/2 pi) k P(k) in units p0 a)."""
     s_max = DECAY_CUT / l_min
-    width = min(1.0, 4.0 / (1.0 + r_max), 8.0 / max(L_max, 1e-300))
+    width = min(2.5, 8.0 / (1.0 + r_max), 8.0 / max(L_max, 1e-300))
     n_pan = max(int(math.ceil(s_max / width)), 4)
     g, w = np.polynomial.legendre.leggauss(GL_NODES)
     edges = np.linspace(0.0, s_max, n_pan + 1)
@@ -368,19 +368,42 @@ def layered_sphere_stresses(x, y, z, stack, a, p0, mu, side="below") -> dict[str
     return {k: p0 * v.reshape(x.shape) for k, v in out.items()}
 
 
+#: on a homogeneous target, the depth (units a) from which `layered_sphere_xz` integrates the
+#: whole field spectrally (its integrand decays as e^{-k z}: 45/z wavenumbers a row)
+SPECTRAL_DEPTH = 0.05
+
+
 def layered_sphere_xz(x, z, stack, a, p0, mu) -> dict[str, np.ndarray]:
     """The field (Pa) on the plane y = 0 through the contact, on X, Z = meshgrid(x, z) (1-D
     x and z in m; arrays of shape (z.size, x.size)); a point on an interface belongs to the
-    layer below. sxy = syz = 0 there (symmetry)."""
+    layer below. sxy = syz = 0 there (symmetry).
+
+    Rows in the top film (on a homogeneous target, above `SPECTRAL_DEPTH` a) are the closed
+    forms plus the layered correction; the rows below them are the whole spectral integral,
+    which needs no Cerruti quadrature (~0.3 ms a point) and no more wavenumbers than the
+    correction of the rows above (the two agree within the quadrature's error, 5e-8 p0 near
+    the rim: tests/continuum/test_sliding_sphere_layered.py)."""
     stack, a, p0, mu = _common(stack, a, p0, mu)
     x, z = _array("x", x), _array("z", z, depth=True)
     if x.ndim != 1 or z.ndim != 1:
         raise InputError(f"x and z must be 1-D arrays (got shapes {x.shape}, {z.shape})")
-    X, Z = np.meshgrid(x / a, z / a)
-    out = _field(X.ravel(), np.zeros(X.size), Z.ravel(), _scaled(stack, a), mu)
-    res = {k: p0 * v.reshape(X.shape) for k, v in out.items()}
-    res["sxy"] = np.zeros(X.shape)
-    res["syz"] = np.zeros(X.shape)
+    st = _scaled(stack, a)
+    zs = z / a
+    top = st.h[0] if len(st.h) else SPECTRAL_DEPTH
+    deep = zs >= top
+    # the deep rows in groups whose depths lie within a factor 2, each to its own 45/z
+    octave = np.floor(np.log2(np.where(deep, zs, top) / top)).astype(int)
+    groups = [(~deep, True)] + [(deep & (octave == o), False) for o in np.unique(octave[deep])]
+    out = {k: np.empty((z.size, x.size)) for k in KEYS}
+    for rows, subtract in groups:
+        if rows.any():
+            X, Z = np.meshgrid(x / a, zs[rows])
+            part = _field(X.ravel(), np.zeros(X.size), Z.ravel(), st, mu, subtract=subtract)
+            for k in KEYS:
+                out[k][rows] = part[k].reshape(X.shape)
+    res = {k: p0 * v for k, v in out.items()}
+    res["sxy"] = np.zeros((z.size, x.size))
+    res["syz"] = np.zeros((z.size, x.size))
     return res
 
 

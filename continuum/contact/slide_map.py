@@ -22,7 +22,7 @@ from filmscale.core.errors import InputError
 
 from ..materials import LayerStack
 from .sliding import principal_stresses, von_mises
-from .slider import Slider, contact, layer_depths, sliding_kind
+from .slider import Slider, check_film_ratio, contact, layer_depths, sliding_kind
 
 #: the grid of a map: x points over |x| <= MAP_X_SPAN a and depths per layer (coarser than
 #: `slide`'s field; the maxima of a sliding contact lie within |x| <= 1.2 a, the surface's at
@@ -106,6 +106,9 @@ def slide_map(stack: LayerStack, slider: Slider, loads, frictions, nx: int = MAP
     if loads.size * frictions.size > MAP_POINTS_MAX:
         raise InputError(f"the slide map has {frictions.size} x {loads.size} points, more than "
                          f"the limit of {MAP_POINTS_MAX}")
+    # the largest load has the largest contact: refused here, before any field
+    check_film_ratio(stack, contact(stack, slider, float(loads[-1])).size,
+                     f"the contact size at the map's largest load, {loads[-1]:.3g} N")
     mats = stack.materials()
     names = tuple(m.name or (f"layer {j + 1}" if j < len(stack.layers) else "substrate")
                   for j, m in enumerate(mats))

@@ -77,6 +77,24 @@ class Slider:
                              f"{type(self.material).__name__}")
 
 
+#: the largest contact size over the top film's thickness: the layered solutions integrate
+#: over wavenumbers up to ~45/h_1, so their cost grows as a/h_1 (on 2 cores one x-z field of a
+#: map takes ~1 s at a/h_1 = 300 and ~10 s (cylinder) or ~25 s (sphere) at 3000)
+FILM_RATIO_MAX = 2000.0
+
+
+def check_film_ratio(stack: LayerStack, size: float, what: str = "the contact") -> None:
+    """InputError, before any field is computed, when the top film is thinner than the
+    contact size (m) over `FILM_RATIO_MAX`."""
+    if stack.layers and size / stack.layers[0].thickness > FILM_RATIO_MAX:
+        layer = stack.layers[0]
+        raise InputError(
+            f"target.layers[0] ({layer.material.name or 'the top film'}) is "
+            f"{layer.thickness:.3g} m thick, 1/{size / layer.thickness:.0f} of {what} "
+            f"({size:.3g} m): the layered stress solutions take up to 1/{FILM_RATIO_MAX:.0f} "
+            "(their cost grows as the ratio); lower the load or leave the film out")
+
+
 @dataclass(frozen=True)
 class SlideContact:
     """The Hertz tractions of one load: contact size (a or b, m), p0 (Pa), the load (N) and
@@ -136,8 +154,9 @@ def _contact_modulus(stack: LayerStack, slider: Slider, size: float) -> float:
         from .coated import LAMBDA_MAX, apparent_modulus
         layer = stack.layers[0]
         lam = size / layer.thickness
-        target = apparent_modulus(min(size, LAMBDA_MAX * layer.thickness), layer.thickness,
-                                  layer.material, stack.substrate)
+        # (1 - 1e-12): a/t of the product rounds above LAMBDA_MAX otherwise
+        target = apparent_modulus(min(size, LAMBDA_MAX * (1 - 1e-12) * layer.thickness),
+                                  layer.thickness, layer.material, stack.substrate)
         if lam > LAMBDA_MAX:
             # beyond the solved range the film's share falls as t/a: interpolate linearly in
             # t/a between the solution at a/t = LAMBDA_MAX and the substrate's at t/a = 0
@@ -375,6 +394,7 @@ def slide(stack: LayerStack, slider: Slider, load: float, mu: float,
         raise InputError(f"nz = {nz!r} must be an integer in [3, 400]")
     kind = sliding_kind(slider.shape)
     c = contact(stack, slider, load)
+    check_film_ratio(stack, c.size, f"the contact size at {load:.3g} N")
     x, depths, fields = grid_field(kind, stack, c.size, c.p0, mu, nx, nz)
     mats = stack.materials()
     rows = tuple(_layer_row(kind, stack, c.size, c.p0, mu, x, z, f,

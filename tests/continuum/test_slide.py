@@ -223,3 +223,20 @@ def test_unit_fields_superpose_to_the_field_and_the_map_cut_costs_nothing():
     ref = layered_cylinder_stresses(X, Z, stack, b, p0, mu)
     for k in ("sxx", "syy", "szz", "txz"):
         assert np.max(np.abs(p0 * (normal[k] + mu * tangential[k]) - ref[k])) < 1e-9 * p0
+
+
+def test_a_film_far_thinner_than_the_contact_is_refused_before_any_field():
+    """The layered solutions' cost grows as a/h_1: beyond FILM_RATIO_MAX the slide and the
+    map stop at once, naming the layer and the ratio."""
+    import time
+
+    from filmscale.continuum.contact.slider import FILM_RATIO_MAX
+    stack = LayerStack((Layer(1e-10, DLC),), NIP)
+    size = contact(stack, EDGE, 1.0).size
+    assert size / 1e-10 > FILM_RATIO_MAX
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"target.layers\[0\] \(DLC\).*1/\d+ of the contact"):
+        slide(stack, EDGE, 1.0, 0.3)
+    with pytest.raises(InputError, match="largest load"):
+        slide_map(stack, EDGE, [1e-3, 1.0], [0.0])
+    assert time.perf_counter() - start < 1.0

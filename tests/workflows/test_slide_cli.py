@@ -162,3 +162,8 @@ def test_slide_map_refusals(tmp_path, capsys):
                      "--out", str(tmp_path / "m.h5"), command="slide-map")
     assert code == 2 and "--friction minimum" in out.err
     assert not (tmp_path / "m.h5").exists()
+
+
+def test_a_film_far_thinner_than_the_contact_exits_2_at_once(tmp_path, capsys):
+    code, out = _run(tmp_path, capsys, EDGE + FILM.replace('"20 nm"', '"0.01 nm"'))
+    assert code == 2 and "target.layers[0] (DLC)" in out.err and out.err.count("\n") == 1

@@ -52,7 +52,7 @@ def main():
         err = max(float(np.max(np.abs(same_out[k] / P0 - ref[k]))) for k in KEYS)
         spec = sl._field(X.ravel(), Zs.ravel(), same, MU, subtract=False, b=B)
         err_s = max(float(np.max(np.abs(spec[k] - ref_s[k].ravel()))) for k in KEYS)
-        s, _ = sl._quadrature(3.0, 0.1, 3.0 + 2 * 0.1 * n)
+        s, _ = sl.wavenumber_panels(3.0, 0.1, 3.0 + 2 * 0.1 * n)
         print(f"{n:>6} {X.size:>7} {s.size:>6} {t_real:>11.2f} {t_same:>9.2f} "
               f"{err:>9.1e} {err_s:>12.1e}")
 

@@ -57,7 +57,7 @@ from filmscale.continuum.materials import LayerStack
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
 
-__all__ = ["layered_cylinder_stresses", "layered_cylinder_sliding", "layered_cylinder_unit_fields",
+__all__ = ["wavenumber_panels", "layered_cylinder_stresses", "layered_cylinder_sliding", "layered_cylinder_unit_fields",
            "LayerPeak",
            "LayeredSlidingResult", "psv_coefficients", "decaying_modes", "growing_modes",
            "halfspace_modes"]
@@ -198,8 +198,11 @@ def _layer_of(z, tops, side):
     return np.searchsorted(bottoms, z, side="left")
 
 
-def _quadrature(x_max, l_min, L_max, cut=DECAY_CUT):
-    """Composite Gauss-Legendre nodes and weights on [0, cut / l_min] (units 1/b)."""
+def wavenumber_panels(x_max, l_min, L_max, cut=DECAY_CUT):
+    """Composite Gauss-Legendre nodes and weights on [0, cut / l_min] (wavenumbers in units of
+    the contact size): `GL_NODES` a panel, panels at most 2.5 wide and narrow enough for the
+    oscillation of cos(s x) (or J_n(s r)) up to ``x_max`` and for the slowest exponential,
+    e^{-s L_max}."""
     s_max = cut / l_min
     width = min(2.5, 8.0 / (1.0 + x_max), 8.0 / max(L_max, 1e-300))
     n_pan = max(int(math.ceil(s_max / width)), 4)
@@ -272,7 +275,7 @@ def _unit_parts(x, z, h, nus, Es, side, subtract, cut=DECAY_CUT):
         group = np.floor(np.log(ell / l_min) / math.log(GROUP_FACTOR)).astype(int)
         for g in np.unique(group):
             sel = np.nonzero(group == g)[0]
-            s, ws = _quadrature(x_max, float(np.min(ell[sel])), L_max, cut)
+            s, ws = wavenumber_panels(x_max, float(np.min(ell[sel])), L_max, cut)
             parts = _synthesise(x[sel], z[sel], lay[sel], tops, h, nus, Es, s, ws, subtract)
             for k in keys:
                 normal[k][sel] += parts[0][k]

@@ -53,7 +53,8 @@ from filmscale.continuum.contact.sliding import (check_friction, principal_stres
                                                  sphere_stresses, von_mises)
 from filmscale.continuum.contact.sliding_layered import (LayeredSlidingResult, LayerPeak,
                                                          decaying_modes, growing_modes,
-                                                         halfspace_modes, psv_coefficients)
+                                                         GL_NODES, halfspace_modes,
+                                                         psv_coefficients, wavenumber_panels)
 from filmscale.continuum.materials import LayerStack
 from filmscale.core.checks import check_real
 from filmscale.core.errors import InputError
@@ -63,8 +64,6 @@ __all__ = ["layered_sphere_stresses", "layered_sphere_xz", "layered_sphere_slidi
 
 #: k l at which the layered correction is cut off (e^{-45} 45^2 ~ 6e-17)
 DECAY_CUT = 45.0
-#: Gauss-Legendre nodes per panel in k
-GL_NODES = 16
 #: doubles held at once by one block of the synthesis
 CHUNK_CELLS = 2_000_000
 #: coefficient sets (k nodes x layers) kept for the whole integral at once
@@ -242,15 +241,8 @@ def _bessel(x):
 def _nodes(l_min, r_max, L_max):
     """Composite Gauss-Legendre nodes on [0, DECAY_CUT / l_min] (units 1/a) and their weights
     times the load's j1(s) (the Hertz pressure's transform, (1/2 pi) k P(k) in units p0 a)."""
-    s_max = DECAY_CUT / l_min
-    width = min(2.5, 8.0 / (1.0 + r_max), 8.0 / max(L_max, 1e-300))
-    n_pan = max(int(math.ceil(s_max / width)), 4)
-    g, w = np.polynomial.legendre.leggauss(GL_NODES)
-    edges = np.linspace(0.0, s_max, n_pan + 1)
-    half = 0.5 * np.diff(edges)
-    mid = 0.5 * (edges[1:] + edges[:-1])
-    s = (mid[:, None] + half[:, None] * g).ravel()
-    return s, (half[:, None] * w).ravel() * special.spherical_jn(1, s)
+    s, w = wavenumber_panels(r_max, l_min, L_max, DECAY_CUT)
+    return s, w * special.spherical_jn(1, s)
 
 
 def _reach(z, lay, st, subtract):

@@ -56,6 +56,9 @@ def slide_table(d: dict) -> str:
 
     def pa(v):
         return eng(v, "Pa")
+
+    def m(v):               # the surface is z = 0, not "0 m"
+        return "0" if v == 0 else eng(v, "m")
     s = d["slider"]
     size = "contact radius a" if s["shape"] == "sphere" else "contact half-width b"
     lines = [f"{s['name']}: {s['shape']} R = {eng(s['radius'], 'm')}"
@@ -66,19 +69,19 @@ def slide_table(d: dict) -> str:
              f"{'layer':<14}{'depth':>20}{'von Mises max':>22}{'at x':>11}{'at z':>11}"
              f"{'/ sigma_y':>17}{'tension max':>13}{'interface shear':>17}"]
     for r in d["layers"]:
-        depth = (f"{eng(r['z_top'], 'm')}-{eng(r['z_bottom'], 'm')}"
-                 if r["z_bottom"] is not None else f"below {eng(r['z_top'], 'm')}")
+        depth = (f"{m(r['z_top'])}-{m(r['z_bottom'])}" if r["z_bottom"] is not None
+                 else f"below {m(r['z_top'])}")
         ratio = "-" if r["yield_ratio"] is None else \
             f"{r['yield_ratio']:.3f}" + std(r, "yield_ratio", lambda v: f"{v:.3f}")
         shear = "-" if r["interface_shear_max"] is None else pa(r["interface_shear_max"])
         vm = pa(r["von_mises_max"]) + std(r, "von_mises_max", pa)
-        lines.append(f"{r['name'][:13]:<14}{depth:>20}{vm:>22}{eng(r['x'], 'm'):>11}"
-                     f"{eng(r['z'], 'm'):>11}{ratio:>17}{pa(r['tensile_max']):>13}{shear:>17}")
+        lines.append(f"{r['name'][:13]:<14}{depth:>20}{vm:>22}{m(r['x']):>11}"
+                     f"{m(r['z']):>11}{ratio:>17}{pa(r['tensile_max']):>13}{shear:>17}")
     first = d["first_yield"]
     if first is not None:
         verdict = "yields" if first["yielded"] else "elastic"
-        lines.append(f"first yield: {first['layer']} at x = {eng(first['x'], 'm')}, z = "
-                     f"{eng(first['z'], 'm')} (von Mises / sigma_y = "
+        lines.append(f"first yield: {first['layer']} at x = {m(first['x'])}, z = "
+                     f"{m(first['z'])} (von Mises / sigma_y = "
                      f"{first['yield_ratio']:.3f}: {verdict})")
     lines.append(f"largest surface tension {pa(d['surface_tensile_max'])} at x = "
                  f"{eng(d['surface_tensile_x'], 'm')} (trailing edge at x = "

@@ -101,22 +101,24 @@ class RigidIndenter:
             return math.sqrt(max(0.0, 2.0 * R * depth - depth**2)) if depth < R else R
         return tip.tip_radius + max(depth, 0.0) * math.tan(math.radians(tip.half_angle))
 
-    def fix_command(self, x: float, y: float) -> str:
+    def fix_command(self, x: float | str, y: float) -> str:
         """``fix indent`` (metal units, lengths in A): a sphere centred on v_z_tip + R, or a
-        cone from v_z_tip (its apex flat) up to v_z_tip + height."""
+        cone from v_z_tip (its apex flat) up to v_z_tip + height; ``x`` a number or the
+        name of an equal-style variable (``v_x_tip``: a moving indenter)."""
+        x = x if isinstance(x, str) else f"{x:.10g}"
         K = si_to_lammps(self.K, "indent_constant")
         tip = self.tip
         if isinstance(tip, Sphere):
             R = si_to_lammps(tip.R, "length")
             return (f"variable z_center equal v_z_tip+{R:.10g}\n"
                     f"fix indenter all indent {K:.10g} "
-                    f"sphere {x:.10g} {y:.10g} v_z_center {R:.10g} units box")
+                    f"sphere {x} {y:.10g} v_z_center {R:.10g} units box")
         r0 = si_to_lammps(tip.tip_radius, "length")
         H = si_to_lammps(self.height, "length")
         r1 = r0 + H * math.tan(math.radians(tip.half_angle))
         return (f"variable z_top equal v_z_tip+{H:.10g}\n"
                 f"fix indenter all indent {K:.10g} "
-                f"cone z {x:.10g} {y:.10g} {r0:.10g} {r1:.10g} v_z_tip v_z_top units box")
+                f"cone z {x} {y:.10g} {r0:.10g} {r1:.10g} v_z_tip v_z_top units box")
 
     def to_dict(self) -> dict:
         return {"tip": self.tip.spec, "K": self.K, "height": self.height}
@@ -282,28 +284,29 @@ SURFACE_FILE = "surface_z.txt"
 RECORD_COLUMNS = ("step", "time", "z_tip", "depth", "load", "temp")
 
 
-def _num(x: float) -> str:
+def lammps_number(x: float) -> str:
+    """A number as a LAMMPS input writes it (12 significant digits)."""
     return f"{x:.12g}"
 
 
-def _setup_lines(spec: IndentSpec) -> list[str]:
+def setup_lines(spec: IndentSpec) -> list[str]:
     """Potential, neighbour lists, thermo and timestep: shared by fresh and resumed inputs."""
     p = spec.protocol
     return [
         *spec.potential.pair_commands(spec.type_elements),
         "neighbor 2.0 bin",
         "neigh_modify delay 0 every 1 check yes",
-        f"timestep {_num(si_to_lammps(p.timestep, 'time'))}",
+        f"timestep {lammps_number(si_to_lammps(p.timestep, 'time'))}",
     ]
 
 
-def _clamp(u: str, n: int) -> str:
+def lammps_clamp(u: str, n: int) -> str:
     """clamp(u, 0, n) as a LAMMPS formula: (|u| - |u - n| + n) / 2 (LAMMPS's min and max
     apply to computes and fixes, not to numbers)."""
     return f"0.5*(abs({u})-abs({u}-{n})+{n})"
 
 
-def _integration_lines(spec: IndentSpec, seed: int) -> list[str]:
+def integration_lines(spec: IndentSpec, seed: int) -> list[str]:
     """Fixed bottom, Langevin layer above it, NVE for all mobile atoms (restart files keep
     none of these fixes)."""
     p = spec.protocol
@@ -311,8 +314,8 @@ def _integration_lines(spec: IndentSpec, seed: int) -> list[str]:
         "# ---- integration: fixed bottom, Langevin layer above it, NVE for all mobile atoms",
         "fix freeze fixed setforce 0.0 0.0 0.0",
         "fix integrate mobile nve",
-        f"fix thermostat thermostat langevin {_num(p.temperature)} {_num(p.temperature)} "
-        f"{_num(si_to_lammps(p.damping, 'time'))} {seed} zero yes",
+        f"fix thermostat thermostat langevin {lammps_number(p.temperature)} {lammps_number(p.temperature)} "
+        f"{lammps_number(si_to_lammps(p.damping, 'time'))} {seed} zero yes",
         "compute mobile_temp mobile temp",
         "thermo_style custom step time temp c_mobile_temp pe",
         "thermo_modify flush yes",
@@ -328,9 +331,9 @@ def _indenter_lines(spec: IndentSpec, z_surface: str, record: str) -> list[str]:
     return [
         "# ---- the indenter: its apex height is a function of the absolute timestep",
         f"variable z_surface equal {z_surface}",
-        f"variable z_tip equal v_z_surface+{_num(si_to_lammps(p.gap, 'length'))}"
-        f"-{_num(si_to_lammps(s.dz, 'length'))}*"
-        f"({_clamp(f'step-{s.s_load}', s.n_down)}-{_clamp(f'step-{s.s_unload}', s.n_up)})",
+        f"variable z_tip equal v_z_surface+{lammps_number(si_to_lammps(p.gap, 'length'))}"
+        f"-{lammps_number(si_to_lammps(s.dz, 'length'))}*"
+        f"({lammps_clamp(f'step-{s.s_load}', s.n_down)}-{lammps_clamp(f'step-{s.s_unload}', s.n_up)})",
         spec.indenter.fix_command(lx / 2.0, ly / 2.0),
         "variable depth equal v_z_surface-v_z_tip",
         "variable load equal f_indenter[3]",
@@ -363,32 +366,25 @@ def _segment_lines(spec: IndentSpec, after_step: int) -> list[str]:
     return lines
 
 
-def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
-                      version: str = "") -> str:
-    """The complete LAMMPS input of a fresh run (replayable with ``lmp -in`` in the run
-    directory that holds the data file)."""
-    p, slab = spec.protocol, spec.slab_built
-    s = p.schedule()
-    seeds = derive_seeds(p.seed, ("velocity", "langevin"))
+def start_lines(spec: IndentSpec) -> list[str]:
+    """Units, the data file, the setup and the regions and groups of a fresh run (shared by
+    the indentation and the scratch inputs)."""
+    slab = spec.slab_built
     top = si_to_lammps(slab.z_surface - 0.5 * slab.surface_layer_gap, "length")
-    lines = [
-        f"# filmscale {version} atomistic nanoindentation: {spec.name}".replace("  ", " "),
-        f"# {slab.n_atoms} atoms; {s.s_end} steps; master seed {p.seed}, derived seeds "
-        f"velocity {seeds['velocity']}, langevin {seeds['langevin']}",
-        "# replay: lmp -in in.indent  (in this directory)",
+    return [
         "units metal",
         "atom_style atomic",
         "boundary p p m",
         "processors * * 1    # split laterally: along z the ranks would share vacuum",
         f"read_data {DATA_FILE}",
-        *_setup_lines(spec),
+        *setup_lines(spec),
         "",
         "# ---- regions (A): rigid bottom, thermostatted layer, mobile atoms, top atomic layer",
-        f"region fixed block INF INF INF INF INF {_num(si_to_lammps(slab.z_fixed, 'length'))} "
+        f"region fixed block INF INF INF INF INF {lammps_number(si_to_lammps(slab.z_fixed, 'length'))} "
         "units box",
-        f"region thermostat block INF INF INF INF {_num(si_to_lammps(slab.z_fixed, 'length'))} "
-        f"{_num(si_to_lammps(slab.z_thermostat, 'length'))} units box",
-        f"region surface block INF INF INF INF {_num(top)} INF units box",
+        f"region thermostat block INF INF INF INF {lammps_number(si_to_lammps(slab.z_fixed, 'length'))} "
+        f"{lammps_number(si_to_lammps(slab.z_thermostat, 'length'))} units box",
+        f"region surface block INF INF INF INF {lammps_number(top)} INF units box",
         "group fixed region fixed",
         "group thermostat region thermostat",
         "group mobile subtract all fixed",
@@ -396,16 +392,39 @@ def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
         "compute pe_atom all pe/atom",
         "",
     ]
+
+
+def minimize_lines(spec: IndentSpec, velocity_seed: int) -> list[str]:
+    """The relaxation, if asked for, and the initial velocities."""
+    p = spec.protocol
+    lines = []
     if p.minimize:
         lines += ["# ---- relax the as-built structure (surface and interface)",
                   "fix freeze_min fixed setforce 0.0 0.0 0.0",
                   "minimize 0 1e-6 2000 20000",
                   "unfix freeze_min",
                   "reset_timestep 0", ""]
-    lines += [f"velocity mobile create {_num(2.0 * p.temperature)} {seeds['velocity']} "
-              "mom yes rot yes dist gaussian" if p.temperature > 0 else "",
-              "velocity fixed set 0.0 0.0 0.0"]
-    lines += _integration_lines(spec, seeds["langevin"])
+    return lines + [f"velocity mobile create {lammps_number(2.0 * p.temperature)} {velocity_seed} "
+                    "mom yes rot yes dist gaussian" if p.temperature > 0 else "",
+                    "velocity fixed set 0.0 0.0 0.0"]
+
+
+def indentation_input(spec: IndentSpec, *, record: str = "indent.dat",
+                      version: str = "") -> str:
+    """The complete LAMMPS input of a fresh run (replayable with ``lmp -in`` in the run
+    directory that holds the data file)."""
+    p, slab = spec.protocol, spec.slab_built
+    s = p.schedule()
+    seeds = derive_seeds(p.seed, ("velocity", "langevin"))
+    lines = [
+        f"# filmscale {version} atomistic nanoindentation: {spec.name}".replace("  ", " "),
+        f"# {slab.n_atoms} atoms; {s.s_end} steps; master seed {p.seed}, derived seeds "
+        f"velocity {seeds['velocity']}, langevin {seeds['langevin']}",
+        "# replay: lmp -in in.indent  (in this directory)",
+        *start_lines(spec),
+        *minimize_lines(spec, seeds["velocity"]),
+    ]
+    lines += integration_lines(spec, seeds["langevin"])
     lines += [
         f"run {s.s_load}    # equilibration",
         "",
@@ -437,10 +456,10 @@ def resume_input(spec: IndentSpec, *, restart_file: str, restart_step: int, z_su
         "boundary p p m",
         "processors * * 1",
         f"read_restart {restart_file}",
-        *_setup_lines(spec),
+        *setup_lines(spec),
         "compute pe_atom all pe/atom",
         "",
-        *_integration_lines(spec, seeds["langevin"]),
+        *integration_lines(spec, seeds["langevin"]),
         *_indenter_lines(spec, f"{z_surface:.12g}", record),
     ]
     if p.restart_every:

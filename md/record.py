@@ -20,7 +20,9 @@ RECORD_FORMAT = "filmscale.md_indent/1"
 RECORD_NAME = "indent.h5"
 
 
-def _attrs(group, values: dict):
+def write_attrs(group, values: dict):
+    """Each value as an HDF5 attribute of ``group``: numbers and text as they are, anything
+    else as JSON; None left out."""
     for key, value in values.items():
         if value is None:
             continue
@@ -54,7 +56,7 @@ def write_record(run: IndentRun, analysis: IndentAnalysis, elastic: ElasticConst
     path = Path(path) if path is not None else run.run_dir / RECORD_NAME
     with atomic_h5(path) as f:
         f.attrs["format"] = RECORD_FORMAT
-        _attrs(f, run_provenance(run, provenance))
+        write_attrs(f, run_provenance(run, provenance))
         f.attrs["run_dir"] = str(run.run_dir)
         f.attrs["n_atoms"] = run.n_atoms
         f.attrs["n_steps"] = run.n_steps
@@ -65,15 +67,15 @@ def write_record(run: IndentRun, analysis: IndentAnalysis, elastic: ElasticConst
         a = f.create_group("analysis")
         d = analysis.to_dict()
         op = d.pop("op")
-        _attrs(a, {k: float(v) if isinstance(v, (float, np.floating)) else v
+        write_attrs(a, {k: float(v) if isinstance(v, (float, np.floating)) else v
                    for k, v in d.items()})
         if op is not None:
-            _attrs(a.create_group("oliver_pharr"), op)
+            write_attrs(a.create_group("oliver_pharr"), op)
         if elastic is not None:
             e = f.create_group("elastic")
             e["C"] = elastic.C
             e["C"].attrs["units"] = "Pa"
-            _attrs(e, {k: v for k, v in elastic.to_dict().items() if k != "C"})
+            write_attrs(e, {k: v for k, v in elastic.to_dict().items() if k != "C"})
         inputs = f.create_group("inputs")
         for name, text in run.inputs().items():
             inputs[name] = text

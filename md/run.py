@@ -63,7 +63,8 @@ class IndentRun:
         return {p["input"]: (self.run_dir / p["input"]).read_text() for p in self.parts}
 
 
-def _restarts(run_dir: Path) -> list[tuple[int, Path]]:
+def restart_files(run_dir: Path) -> list[tuple[int, Path]]:
+    """(step, path) of each restart file in ``run_dir``, the newest first."""
     found = [(int(m.group(1)), p) for p in run_dir.iterdir()
              if (m := _RESTART.match(p.name))]
     return sorted(found, reverse=True)
@@ -115,7 +116,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
     report = (lambda step: progress(step, total)) if progress is not None else None
 
     while state is None or not state.get("finished"):
-        restarts = _restarts(run_dir) if state is not None else []
+        restarts = restart_files(run_dir) if state is not None else []
         if state is None or not restarts or not (run_dir / SURFACE_FILE).exists():
             state = {"spec": spec_dict, "parts": [_fresh(spec, run_dir)], "finished": False,
                      "engine": engine.to_dict()}
@@ -140,7 +141,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
         part["wall_time"] = time.perf_counter() - started
         state["finished"] = True
         write_json(state_path, state)
-        for _, restart in _restarts(run_dir):    # a finished run needs no checkpoints
+        for _, restart in restart_files(run_dir):    # a finished run needs no checkpoints
             restart.unlink()
     return read_run(spec, run_dir)
 

@@ -135,6 +135,61 @@ def cmd_md_indent(args) -> int:
     return 0
 
 
+def _scratch_spec(args):
+    from filmscale.md.scratch import load_scratch_spec, scratch_preset
+    if (args.spec is None) == (args.preset is None):
+        raise InputError("give a spec file or --preset NAME (one of them)")
+    return scratch_preset(args.preset) if args.preset else load_scratch_spec(args.spec)
+
+
+#: the figures of `md scratch --json` (SI: N, m; friction a pure number)
+SCRATCH_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_force_mean",
+                "groove_depth", "groove_width", "pileup_height", "edge_height",
+                "steady_points")
+
+
+def _print_scratch(run, a, record: Path) -> None:
+    print(f"friction {a.friction_mean:.3f} +- {a.friction_std:.3f} over {a.steady_points} "
+          f"points of the steady stroke; normal force {a.normal_force_mean * 1e9:.2f} nN, "
+          f"lateral force {a.lateral_force_mean * 1e9:.2f} nN")
+    print(f"residual groove at mid-stroke: depth {a.groove_depth * 1e9:.3f} nm, width "
+          f"{a.groove_width * 1e9:.3f} nm, pile-up {a.pileup_height * 1e9:.3f} nm "
+          f"(edge of the profile {a.edge_height * 1e9:+.3f} nm)")
+    print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
+
+
+def cmd_md_scratch(args) -> int:
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.lammps_input import run_dir_for
+    from filmscale.md.scratch_run import analyze_scratch, run_scratch, write_scratch_record
+    from filmscale.workflows.progress import progress_bar, step_callback
+
+    spec = _scratch_spec(args)
+    engine = EngineOptions(np=args.np, omp_threads=args.omp)
+    out = Path(args.out) if args.out else run_dir_for("md_runs", spec.name)
+    check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
+                     args.force)
+    total = spec.schedule().s_end
+    if not args.json:
+        print(f"{spec.name}: {spec.indent.slab_built.n_atoms} atoms, {total} steps, "
+              f"{args.np} rank(s); run directory {out}", file=sys.stderr)
+    bar = progress_bar(total, "step", spec.name)
+    try:
+        run = run_scratch(spec, out, engine, progress=step_callback(bar, total))
+    finally:
+        bar.close()
+    analysis = analyze_scratch(run)
+    record = write_scratch_record(run, analysis, provenance=provenance(
+        command="filmscale " + " ".join(sys.argv[1:])))
+    if args.json:
+        figures = {k: getattr(analysis, k) for k in SCRATCH_KEYS}
+        print(dumps({**figures, "n_atoms": run.n_atoms, "n_steps": run.n_steps,
+                     "wall_time": run.wall_time, "result": str(record)}))
+    else:
+        _print_scratch(run, analysis, record)
+    return 0
+
+
 def cmd_potentials(args) -> int:
     if args.action == "list":
         for pot in registry().values():
@@ -181,6 +236,20 @@ def add_arguments(sub) -> None:
                         "indent analyze --plot draws it)")
     add_force_argument(p)
     p.set_defaults(func=cmd_md_indent)
+
+    p = msub.add_parser("scratch", help="atomistic nanoscratch with a rigid sphere or cone",
+                        description="Run (or resume, with the same --out) an MD scratch at "
+                                    "constant depth, analyse friction and residual groove and "
+                                    "write the HDF5 record.")
+    p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
+    p.add_argument("--preset", metavar="{ci,quick}",
+                   help="a built-in spec: ci (under a minute on 2 cores) or quick (minutes)")
+    p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
+    p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
+    p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    add_force_argument(p)
+    p.set_defaults(func=cmd_md_scratch)
 
     p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows",
                        description="The interatomic potentials in filmscale's registry: list "

@@ -1,0 +1,355 @@
+"""Running a nanoscratch, what it says, and its HDF5 record.
+
+`run_scratch` drives LAMMPS like `md.run.run_indentation` (the same run directory layout:
+``in.scratch``, ``in.resume.K``, ``scratch.dat`` / ``scratch.K.dat``, restart files, dumps,
+``state.json``; an interrupted run resumes from its newest readable restart file, a finished
+one is read back without LAMMPS). `analyze_scratch` gives the friction and the residual
+groove; `write_scratch_record` the record (``scratch.h5``, SI).
+
+Friction: over the steady part of the first pass, the middle `STEADY` of its stroke length
+(the indenter's x between 20 % and 80 % of the length from its start), mu_i = F_lat,i /
+F_n,i at every recorded point; ``friction_mean`` and ``friction_std`` are their mean and
+standard deviation, ``normal_force_mean`` and ``lateral_force_mean`` the mean forces there.
+
+Groove: from the atoms after the withdrawal and relaxation, those within `WINDOW` of the
+mid-stroke x are binned in y (`BIN` wide); each bin's surface height is the mean z of its
+top k atoms, k the top layer's areal density (counted in the as-built slab) times the bin's
+area. Heights are relative to the undeformed surface (``z_surface``: the mean height of the
+top atomic layer after equilibration, the zero of depth), the far field of an unscratched
+sample; ``edge_height`` is the mean height of the bins farther than the contact radius +
+`FAR_FIELD` from the axis, which stays near zero only where the sample is wide enough for
+the pile-up to die out (the ci sample is not: its edges carry the pile-up). ``groove_depth`` is minus the lowest
+height within the contact radius of the axis, ``groove_width`` the distance between the
+points either side of that minimum where the profile first rises through zero (linear
+interpolation), ``pileup_height`` the highest height of the profile.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+from ase.io import write as ase_write
+
+from filmscale import __version__
+from filmscale.core.errors import InputError
+from filmscale.core.files import atomic_h5, read_json, write_json
+from filmscale.core.jsonable import to_jsonable
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
+from filmscale.md.lammps_input import write_input
+from filmscale.md.lammps_units import lammps_to_si
+from filmscale.md.record import write_attrs, run_provenance
+from filmscale.md.run import STATE_FILE, restart_files
+from filmscale.md.scratch import (FAR_FIELD, RECORD_COLUMNS, RECORD_FILE, STROKE, ScratchSpec,
+                                  dump_name, record_to_si, scratch_input,
+                                  scratch_resume_input)
+
+RECORD_FORMAT = "filmscale.md_scratch/1"
+RECORD_NAME = "scratch.h5"
+STEADY = (0.2, 0.8)      #: the steady part of a pass, as fractions of its length
+WINDOW = 5e-10           #: half-width in x of the atoms of the groove profile, m
+BIN = 2e-10              #: width of the profile's bins in y, m
+
+
+@dataclass(frozen=True)
+class ScratchRun:
+    """A finished scratch: the forces in SI against time and indenter position, and the
+    atoms after relaxation (ids, types, positions in m)."""
+
+    spec: ScratchSpec
+    run_dir: Path
+    data: dict              #: step, time (s), x_tip, z_tip, depth (m), fx, fy, fz (N), temp
+    z_surface: float        #: undeformed surface height, m
+    final_atoms: dict       #: id, type, x, y, z (m) after the relaxation
+    parts: tuple[dict, ...]
+    wall_time: float
+    engine: dict = field(default_factory=dict)
+
+    @property
+    def n_atoms(self) -> int:
+        return self.spec.indent.slab_built.n_atoms
+
+    @property
+    def n_steps(self) -> int:
+        return self.spec.schedule().s_end
+
+    @property
+    def normal_force(self) -> np.ndarray:
+        return self.data["fz"]
+
+    @property
+    def lateral_force(self) -> np.ndarray:
+        """Force resisting the motion (positive against it), N; zero off the stroke."""
+        return -self.spec.schedule().direction(self.data["step"]) * self.data["fx"]
+
+    def inputs(self) -> dict[str, str]:
+        return {p["input"]: (self.run_dir / p["input"]).read_text() for p in self.parts}
+
+
+def _spec_dict(spec: ScratchSpec) -> dict:
+    return to_jsonable(json.loads(json.dumps(spec.to_dict(), default=str)))
+
+
+def _fresh(spec: ScratchSpec, run_dir: Path) -> dict:
+    ind = spec.indent
+    ase_write(run_dir / DATA_FILE, ind.slab_built.atoms, format="lammps-data",
+              specorder=list(ind.type_elements), masses=True, units="metal",
+              atom_style="atomic")
+    write_input(run_dir / "in.scratch", scratch_input(spec, version=__version__))
+    write_json(run_dir / "spec.json", _spec_dict(spec))
+    seeds = derive_seeds(ind.protocol.seed, ("velocity", "langevin"))
+    return {"input": "in.scratch", "record": RECORD_FILE, "start": 0, "seeds": seeds}
+
+
+def _resume_part(spec: ScratchSpec, run_dir: Path, k: int, step: int, restart: Path) -> dict:
+    z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
+    name, record = f"in.resume.{k}", f"scratch.{k}.dat"
+    write_input(run_dir / name, scratch_resume_input(
+        spec, restart_file=restart.name, restart_step=step, z_surface=z_surface, part=k,
+        record=record, version=__version__))
+    return {"input": name, "record": record, "start": step, "restart": restart.name,
+            "seeds": derive_seeds(spec.indent.protocol.seed, ("langevin",), part=k)}
+
+
+def run_scratch(spec: ScratchSpec, run_dir: Path | str,
+                engine: EngineOptions = EngineOptions(), *,
+                progress: Callable[[int, int], None] | None = None) -> ScratchRun:
+    """Run ``spec`` in ``run_dir``, resume it there, or read a finished run back."""
+    run_dir = Path(run_dir).resolve()
+    (run_dir / "dumps").mkdir(parents=True, exist_ok=True)
+    state_path = run_dir / STATE_FILE
+    spec_dict = _spec_dict(spec)
+    state = read_json(state_path, "run state") if state_path.exists() else None
+    if state is not None and to_jsonable(state.get("spec")) != spec_dict:
+        raise InputError("the run directory holds a run of a different spec; choose another "
+                         f"directory (run directory {run_dir})")
+    total = spec.schedule().s_end
+    report = (lambda step: progress(step, total)) if progress is not None else None
+    while state is None or not state.get("finished"):
+        restarts = restart_files(run_dir) if state is not None else []
+        if state is None or not restarts or not (run_dir / SURFACE_FILE).exists():
+            state = {"spec": spec_dict, "parts": [_fresh(spec, run_dir)], "finished": False,
+                     "engine": engine.to_dict()}
+        else:
+            step, restart = restarts[0]
+            state["parts"].append(_resume_part(spec, run_dir, len(state["parts"]), step,
+                                               restart))
+        write_json(state_path, state)
+        part = state["parts"][-1]
+        started = time.perf_counter()
+        try:
+            run_input(part["input"], run_dir, engine, log_name=f"log.{part['input']}",
+                      progress=report)
+        except LammpsError as exc:
+            if "restart" in part and "restart" in exc.message.lower():
+                (run_dir / part["restart"]).rename(run_dir / f"{part['restart']}.unreadable")
+                state["parts"].pop()
+                write_json(state_path, state)
+                continue
+            raise
+        part["wall_time"] = time.perf_counter() - started
+        state["finished"] = True
+        write_json(state_path, state)
+        for _, restart in restart_files(run_dir):
+            restart.unlink()
+    return read_scratch(spec, run_dir)
+
+
+def _read_dump(path: Path) -> dict:
+    """id, type, x, y, z (m) of a ``write_dump ... id type x y z ...`` file."""
+    lines = path.read_text().splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
+    cols = lines[head].split()[2:]
+    data = np.loadtxt(lines[head + 1:], ndmin=2)
+    c = {name: data[:, i] for i, name in enumerate(cols)}
+    out = {"id": c["id"].astype(int), "type": c["type"].astype(int)}
+    out.update({k: lammps_to_si(c[k], "length") for k in ("x", "y", "z")})
+    return out
+
+
+def read_scratch(spec: ScratchSpec, run_dir: Path | str) -> ScratchRun:
+    """The forces and the final atoms of a finished run directory (no LAMMPS)."""
+    run_dir = Path(run_dir).resolve()
+    state = json.loads((run_dir / STATE_FILE).read_text())
+    parts = state["parts"]
+    rows = []
+    for k, part in enumerate(parts):
+        columns, data = parse_table((run_dir / part["record"]).read_text())
+        if columns != RECORD_COLUMNS:
+            raise LammpsError(f"{part['record']} has columns {columns}, expected "
+                              f"{RECORD_COLUMNS}", run_dir)
+        end = parts[k + 1]["start"] if k + 1 < len(parts) else np.inf
+        rows.append(data[(data[:, 0] > part["start"]) & (data[:, 0] <= end)])
+    data = np.concatenate(rows)
+    data = data[np.argsort(data[:, 0], kind="stable")]
+    data = data[np.unique(data[:, 0], return_index=True)[1]]
+    z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
+    return ScratchRun(spec=spec, run_dir=run_dir,
+                      data=record_to_si({n: data[:, i] for i, n in enumerate(RECORD_COLUMNS)}),
+                      z_surface=float(lammps_to_si(z_surface, "length")),
+                      final_atoms=_read_dump(run_dir / dump_name(spec.schedule().s_end)),
+                      parts=tuple(parts), wall_time=sum(p.get("wall_time", 0.0) for p in parts),
+                      engine=state.get("engine", {}))
+
+
+# ---- analysis ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ScratchAnalysis:
+    """The figures of a scratch, SI; NaN where a figure cannot be found."""
+
+    friction_mean: float
+    friction_std: float
+    normal_force_mean: float      #: N
+    lateral_force_mean: float     #: N, positive against the motion
+    steady_points: int
+    groove_depth: float           #: m, positive below the far field
+    groove_width: float           #: m, between the zero crossings either side
+    pileup_height: float          #: m, above the far field
+    edge_height: float            #: mean height of the profile's outer bins, m
+    profile_y: np.ndarray         #: bin centres, m from the groove axis
+    profile_h: np.ndarray         #: surface height relative to the far field, m
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["profile_y"], d["profile_h"] = self.profile_y.tolist(), self.profile_h.tolist()
+        return d
+
+
+def steady_mask(run: ScratchRun) -> np.ndarray:
+    """The recorded points of the first pass with the indenter between `STEADY` of it."""
+    spec = run.spec
+    s = spec.schedule()
+    travel = run.data["x_tip"] - spec.x_start
+    first = (run.data["step"] > s.s_stroke) & (run.data["step"] <= s.s_stroke + s.n_slide)
+    L = spec.stroke.length
+    return first & (travel >= STEADY[0] * L) & (travel <= STEADY[1] * L)
+
+
+def _top_density(spec: ScratchSpec) -> float:
+    """Atoms per m^2 in the top atomic layer of the as-built slab."""
+    slab = spec.indent.slab_built
+    z = lammps_to_si(slab.atoms.positions[:, 2], "length")
+    n = int(np.sum(z > slab.z_surface - 0.5 * slab.surface_layer_gap))
+    return n / (slab.box[0] * slab.box[1])
+
+
+def groove_profile(run: ScratchRun) -> tuple[np.ndarray, np.ndarray, float]:
+    """(y from the axis, height relative to the undeformed surface) per bin at mid-stroke,
+    and the mean height of the outer bins (NaN when there are none)."""
+    spec = run.spec
+    Lx, Ly = spec.indent.slab_built.box[:2]
+    a = run.final_atoms
+    x_mid = spec.x_start + 0.5 * spec.stroke.length
+    dx = (a["x"] - x_mid + 0.5 * Lx) % Lx - 0.5 * Lx
+    dy = (a["y"] - spec.y_center + 0.5 * Ly) % Ly - 0.5 * Ly
+    sel = np.abs(dx) <= WINDOW
+    n_bins = max(3, int(Ly // BIN))
+    edges = np.linspace(-0.5 * Ly, 0.5 * Ly, n_bins + 1)
+    k = max(1, round(_top_density(spec) * 2 * WINDOW * (Ly / n_bins)))
+    idx = np.digitize(dy[sel], edges) - 1
+    z = a["z"][sel]
+    heights = np.array([np.mean(np.sort(z[idx == i])[-k:]) if np.any(idx == i) else np.nan
+                        for i in range(n_bins)])
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    far = np.abs(centres) > spec.contact_radius + FAR_FIELD
+    h = heights - run.z_surface
+    return centres, h, float(np.nanmean(h[far])) if np.any(far) else math.nan
+
+
+def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
+    """Width between the first upward zero crossings either side of index i0."""
+    ends = []
+    for step in (-1, 1):
+        i = i0
+        while 0 <= i + step < len(h) and h[i + step] < 0:
+            i += step
+        j = i + step
+        if not 0 <= j < len(h) or not np.isfinite(h[j]):
+            return math.nan
+        ends.append(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i]))
+    return float(ends[1] - ends[0])
+
+
+def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
+    """Friction over the steady stroke and the residual groove (see the module docstring)."""
+    steady = steady_mask(run)
+    Fn, Fl = run.normal_force[steady], run.lateral_force[steady]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu = Fl / Fn
+    mu = mu[np.isfinite(mu)]
+    nan = math.nan
+    y, h, edge = groove_profile(run)
+    inside = np.abs(y) <= run.spec.contact_radius
+    depth = width = nan
+    if np.any(inside & np.isfinite(h)):
+        i0 = int(np.flatnonzero(inside)[np.nanargmin(h[inside])])
+        depth = float(-h[i0])
+        width = _crossings(y, h, i0) if h[i0] < 0 else 0.0
+    return ScratchAnalysis(
+        friction_mean=float(mu.mean()) if mu.size else nan,
+        friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
+        normal_force_mean=float(Fn.mean()) if Fn.size else nan,
+        lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
+        steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
+        pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h)
+
+
+def stroke_mask(run: ScratchRun) -> np.ndarray:
+    return run.spec.schedule().segment(run.data["step"]) == STROKE
+
+
+# ---- the record -------------------------------------------------------------------------------
+
+def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
+                         path: Path | str | None = None,
+                         provenance: dict | None = None) -> Path:
+    """Write ``scratch.h5`` (or ``path``): ``forces`` (time s, step, x_tip, z_tip, depth m,
+    normal_force, lateral_force, fx, fy, fz N, segment), ``analysis`` (figures as attributes,
+    the groove profile as datasets), ``final_atoms`` (id, type, x, y, z m), ``inputs``;
+    provenance as root attributes (as the indentation record)."""
+    path = Path(path) if path is not None else run.run_dir / RECORD_NAME
+    s = run.spec.schedule()
+    with atomic_h5(path) as f:
+        f.attrs["format"] = RECORD_FORMAT
+        write_attrs(f, run_provenance(run_as_indent(run), provenance))
+        for key, value in (("run_dir", str(run.run_dir)), ("n_atoms", run.n_atoms),
+                           ("n_steps", run.n_steps), ("wall_time", run.wall_time),
+                           ("z_surface", run.z_surface), ("units", "SI"),
+                           ("lateral_sign", "positive against the motion")):
+            f.attrs[key] = value
+        g = f.create_group("forces")
+        units = {"time": "s", "x_tip": "m", "z_tip": "m", "depth": "m", "fx": "N",
+                 "fy": "N", "fz": "N", "temp": "K"}
+        for key, unit in units.items():
+            g[key] = run.data[key]
+            g[key].attrs["units"] = unit
+        g["step"] = run.data["step"]
+        g["segment"] = s.segment(run.data["step"])
+        g["normal_force"], g["lateral_force"] = run.normal_force, run.lateral_force
+        g["normal_force"].attrs["units"] = g["lateral_force"].attrs["units"] = "N"
+        a = f.create_group("analysis")
+        d = analysis.to_dict()
+        a["profile_y"], a["profile_h"] = d.pop("profile_y"), d.pop("profile_h")
+        write_attrs(a, {k: float(v) for k, v in d.items()})
+        atoms = f.create_group("final_atoms")
+        for key, value in run.final_atoms.items():
+            atoms[key] = value
+        inputs = f.create_group("inputs")
+        for name, text in run.inputs().items():
+            inputs[name] = text
+        inputs["spec.json"] = json.dumps(run.spec.to_dict(), default=str)
+        inputs.attrs["slab"] = json.dumps(run.spec.indent.slab_built.to_dict())
+    return path
+
+
+def run_as_indent(run: ScratchRun):
+    """What `record.run_provenance` reads (spec with potential and protocol, parts, engine)."""
+    from types import SimpleNamespace
+    return SimpleNamespace(spec=run.spec.indent, parts=run.parts, engine=run.engine)

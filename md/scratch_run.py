@@ -22,6 +22,15 @@ the pile-up to die out (the ci sample is not: its edges carry the pile-up). ``gr
 height within the contact radius of the axis, ``groove_width`` the distance between the
 points either side of that minimum where the profile first rises through zero (linear
 interpolation), ``pileup_height`` the highest height of the profile.
+
+Damage (`md.damage`): the atomic von Mises strain eta_Mises (Shimizu, Ogata & Li 2007, as
+OVITO's atomic strain) of every final atom against its as-built position (the slab written to
+``slab.data``, 0 K; the runs are at 10 K, so thermal strain stays near 0.01), neighbours within
+`damage.shell_cutoff` of the slab's crystals (the largest over its layers). Atoms with
+eta_Mises > `damage.THRESHOLD` are damaged; per layer (the layer an atom was built in),
+``width`` is the y extent and ``depth`` the depth below the as-built surface of the damaged
+atoms in the groove profile's cross-section (within `WINDOW` of mid-stroke x, as built), so
+that ``width`` compares with ``groove_width``.
 """
 
 from __future__ import annotations
@@ -30,7 +39,7 @@ import json
 import math
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +49,8 @@ from filmscale import __version__
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5, read_json, write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
+                                 layer_index, shell_cutoff)
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
 from filmscale.md.lammps_input import write_input
@@ -215,10 +226,15 @@ class ScratchAnalysis:
     edge_height: float            #: mean height of the profile's outer bins, m
     profile_y: np.ndarray         #: bin centres, m from the groove axis
     profile_h: np.ndarray         #: surface height relative to the far field, m
+    damage: tuple[LayerDamage, ...] = ()   #: per layer, top film first (SI)
+    eta_mises: np.ndarray | None = None    #: per final atom (the order of ``final_atoms``)
+    damage_threshold: float = THRESHOLD
+    damage_cutoff: float = math.nan        #: neighbour cutoff of eta_Mises, m
 
     def to_dict(self) -> dict:
-        d = asdict(self)
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k != "eta_mises"}
         d["profile_y"], d["profile_h"] = self.profile_y.tolist(), self.profile_h.tolist()
+        d["damage"] = [x.to_dict() for x in self.damage]
         return d
 
 
@@ -277,8 +293,29 @@ def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
     return float(ends[1] - ends[0])
 
 
+def scratch_damage(run: ScratchRun, threshold: float = THRESHOLD
+                   ) -> tuple[tuple[LayerDamage, ...], np.ndarray, float]:
+    """(per-layer damage, eta_Mises per final atom, cutoff m): see the module docstring."""
+    spec = run.spec
+    slab = spec.indent.slab_built
+    a = run.final_atoms
+    x0 = lammps_to_si(slab.atoms.positions, "length")[a["id"] - 1]
+    x = np.column_stack([a["x"], a["y"], a["z"]])
+    layers = spec.indent.slab.layers()
+    cutoff = max(shell_cutoff(layer.crystal.structure, layer.crystal.a) for _, layer in layers)
+    eta = atomic_strain(x0, x, cutoff, box=slab.box)
+    Lx = slab.box[0]
+    x_mid = spec.x_start + 0.5 * spec.stroke.length
+    section = np.abs((x0[:, 0] - x_mid + 0.5 * Lx) % Lx - 0.5 * Lx) <= WINDOW
+    damage = damaged_region(x0, eta, [label for label, _ in layers],
+                            layer_index(x0[:, 2], slab.layer_tops), slab.z_surface,
+                            spec.y_center, slab.box[1], threshold, select=section)
+    return tuple(damage), eta, cutoff
+
+
 def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
-    """Friction over the steady stroke and the residual groove (see the module docstring)."""
+    """Friction over the steady stroke, the residual groove and the sub-surface damage (see
+    the module docstring)."""
     steady = steady_mask(run)
     Fn, Fl = run.normal_force[steady], run.lateral_force[steady]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -286,6 +323,7 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
     mu = mu[np.isfinite(mu)]
     nan = math.nan
     y, h, edge = groove_profile(run)
+    damage, eta, cutoff = scratch_damage(run)
     inside = np.abs(y) <= run.spec.contact_radius
     depth = width = nan
     if np.any(inside & np.isfinite(h)):
@@ -298,7 +336,8 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
         normal_force_mean=float(Fn.mean()) if Fn.size else nan,
         lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
         steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
-        pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h)
+        pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
+        damage=damage, eta_mises=eta, damage_cutoff=cutoff)
 
 
 def stroke_mask(run: ScratchRun) -> np.ndarray:
@@ -312,8 +351,10 @@ def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
                          provenance: dict | None = None) -> Path:
     """Write ``scratch.h5`` (or ``path``): ``forces`` (time s, step, x_tip, z_tip, depth m,
     normal_force, lateral_force, fx, fy, fz N, segment), ``analysis`` (figures as attributes,
-    the groove profile as datasets), ``final_atoms`` (id, type, x, y, z m), ``inputs``;
+    the groove profile as datasets; ``analysis/damage``: layer, width, depth m, atoms per
+    layer), ``final_atoms`` (id, type, x, y, z m, eta_mises), ``inputs``;
     provenance as root attributes (as the indentation record)."""
+    import h5py
     path = Path(path) if path is not None else run.run_dir / RECORD_NAME
     s = run.spec.schedule()
     with atomic_h5(path) as f:
@@ -337,10 +378,24 @@ def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
         a = f.create_group("analysis")
         d = analysis.to_dict()
         a["profile_y"], a["profile_h"] = d.pop("profile_y"), d.pop("profile_h")
+        rows = d.pop("damage")
         write_attrs(a, {k: float(v) for k, v in d.items()})
+        dmg = a.create_group("damage")
+        dmg.attrs["criterion"] = (f"atomic von Mises strain (Shimizu, Ogata & Li 2007) > "
+                                  f"{analysis.damage_threshold:g} against the as-built slab, "
+                                  f"neighbours within {analysis.damage_cutoff:.6g} m; atoms "
+                                  f"within {WINDOW:g} m of mid-stroke x")
+        dmg.create_dataset("layer", data=[r["layer"] for r in rows],
+                           dtype=h5py.string_dtype())
+        for key, unit in (("width", "m"), ("depth", "m"), ("atoms", "1")):
+            dmg[key] = np.array([r[key] for r in rows], float if unit == "m" else int)
+            dmg[key].attrs["units"] = unit
         atoms = f.create_group("final_atoms")
         for key, value in run.final_atoms.items():
             atoms[key] = value
+        if analysis.eta_mises is not None:
+            atoms["eta_mises"] = analysis.eta_mises
+            atoms["eta_mises"].attrs["units"] = "1"
         inputs = f.create_group("inputs")
         for name, text in run.inputs().items():
             inputs[name] = text

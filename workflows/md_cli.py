@@ -155,6 +155,9 @@ def _print_scratch(run, a, record: Path) -> None:
     print(f"residual groove at mid-stroke: depth {a.groove_depth * 1e9:.3f} nm, width "
           f"{a.groove_width * 1e9:.3f} nm, pile-up {a.pileup_height * 1e9:.3f} nm "
           f"(edge of the profile {a.edge_height * 1e9:+.3f} nm)")
+    for d in a.damage:
+        print(f"damage (eta_Mises > {a.damage_threshold:g}) in {d.layer}: width "
+              f"{d.width * 1e9:.3f} nm, depth {d.depth * 1e9:.3f} nm ({d.atoms} atoms)")
     print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
 
 
@@ -183,6 +186,8 @@ def cmd_md_scratch(args) -> int:
         command="filmscale " + " ".join(sys.argv[1:])))
     if args.json:
         figures = {k: getattr(analysis, k) for k in SCRATCH_KEYS}
+        figures["damage"] = [{"layer": d.layer, "width": d.width, "depth": d.depth}
+                             for d in analysis.damage]
         print(dumps({**figures, "n_atoms": run.n_atoms, "n_steps": run.n_steps,
                      "wall_time": run.wall_time, "result": str(record)}))
     else:

@@ -408,3 +408,39 @@ def run_as_indent(run: ScratchRun):
     """What `record.run_provenance` reads (spec with potential and protocol, parts, engine)."""
     from types import SimpleNamespace
     return SimpleNamespace(spec=run.spec.indent, parts=run.parts, engine=run.engine)
+
+
+@dataclass(frozen=True)
+class ScratchFriction:
+    """The friction a scratch record measured over its steady stroke: mean and standard
+    deviation of F_lat/F_n over ``points`` recorded points."""
+
+    mean: float
+    std: float
+    points: int
+
+
+def read_scratch_friction(path, name: str = "scratch record") -> ScratchFriction:
+    """The friction of the scratch record ``path`` (the scratch.h5 of `filmscale md
+    scratch`); InputError naming ``name`` for a file that is not one."""
+    import h5py
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{name} = {str(path)!r} is not a file (give the scratch.h5 of "
+                         "`filmscale md scratch`)")
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = f.attrs.get("format", "")
+            if fmt != RECORD_FORMAT:
+                raise InputError(f"{name} = {str(path)!r} is not a scratch record (format "
+                                 f"{fmt or 'none'!r}, expected {RECORD_FORMAT!r})")
+            a = f["analysis"].attrs
+            out = ScratchFriction(float(a["friction_mean"]), float(a["friction_std"]),
+                                  int(a["steady_points"]))
+    except (OSError, KeyError) as err:
+        raise InputError(f"{name} = {str(path)!r} cannot be read as a scratch record: "
+                         f"{err}") from None
+    if not (math.isfinite(out.mean) and out.mean >= 0.0):
+        raise InputError(f"{name} = {str(path)!r} holds no friction coefficient (its steady "
+                         f"stroke gave {out.mean!r})")
+    return out

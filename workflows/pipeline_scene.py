@@ -30,7 +30,7 @@ from filmscale.workflows.scene import (MATERIAL_KEYS, MapSpec, Scene, check_laye
                                        check_scene_data, material, read_impactor,
                                        read_map_spec, scene_from_data, si_quantities)
 from filmscale.workflows.slide_scene import (SLIDE_OUTPUTS, SlideScene, check_slide_data,
-                                             slide_scene_from_data)
+                                             contact_friction, slide_scene_from_data)
 
 
 OUTPUTS = ("maxima", "history", "map", "restitution", "residual_damage", "tangential")
@@ -188,7 +188,7 @@ class PipelineScene:
         """The sliding scene with each calibrated layer's E and sigma_y filled in (a Nix-Gao
         length is not: the sliding stresses are elastic, and a sliding scene takes none)."""
         return slide_scene_from_data(filled_data(self.data, materials, None), self.text,
-                                     self.source)
+                                     self.source, self.base)
 
 
 def filled_data(data: dict, materials: dict[int, ElasticPlastic],
@@ -291,17 +291,20 @@ def _outputs(data: dict, sliding: bool) -> tuple[list, float]:
     return want, tolerance
 
 
-def _motion(data: dict, sliding: bool) -> tuple[float, float]:
-    """(friction, angle in degrees) of the scene: [contact] friction; an impactor's angle
-    (a slider slides along its surface: 0)."""
+def _motion(data: dict, sliding: bool, base: Path) -> tuple[float, float]:
+    """(friction, angle in degrees) of the scene: [contact] friction (a sliding scene's may
+    be a scratch record's, `slide_scene.contact_friction`); an impactor's angle (a slider
+    slides along its surface: 0)."""
+    if sliding:
+        return contact_friction(data, base)[0], 0.0
     contact = data.get("contact") if isinstance(data.get("contact"), dict) else {}
-    imp = data.get("impactor", {}) if not sliding else {}
+    imp = data.get("impactor", {})
     if "friction" in imp:
         raise InputError("impactor.friction: the friction coefficient is [contact] friction, "
                          "as in `filmscale impact` (docs/scenes.md)")
     friction = check_real("contact.friction", contact.get("friction", 0.0), low=0.0, high=10.0)
-    angle = 0.0 if sliding else check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0,
-                                           high=90.0, high_open=True, unit="degrees")
+    angle = check_real("impactor.angle", imp.pop("angle", 0.0), low=0.0, high=90.0,
+                       high_open=True, unit="degrees")
     return friction, angle
 
 
@@ -314,7 +317,7 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
     data = si_quantities(parse_toml(text, "scene", source))
     sliding = "slider" in data
     want, tolerance = _outputs(data, sliding)
-    friction, angle = _motion(data, sliding)
+    friction, angle = _motion(data, sliding, base)
     sources = []
     layers = data.get("target", {}).get("layers", [])
     if isinstance(layers, list):
@@ -339,8 +342,11 @@ def parse_pipeline(text: str, source: str = "<scene>", base: Path | None = None
     pipeline = PipelineScene(data, text, source, base, tuple(sources), frozenset(want),
                              tolerance, friction, angle)
     # every other key checked now, the calibrated layers' E and sigma_y excepted
-    (check_slide_data if sliding else check_scene_data)(data, pending={s.layer
-                                                                       for s in sources})
+    pending = {s.layer for s in sources}
+    if sliding:
+        check_slide_data(data, pending, base)
+    else:
+        check_scene_data(data, pending)
     return pipeline
 
 

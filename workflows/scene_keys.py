@@ -97,7 +97,8 @@ GENERAL_KEYS: dict[str, tuple[Key, ...]] = {
             doc="a sliding scene (`filmscale slide`, `slide-map`; docs/sliding.md) holds "
             "[slider] instead of [impactor]: a sphere (the flying-height bump, a corner) or a "
             "cylinder of length `length` (an edge, plane strain); the friction is `[contact] "
-            "friction`"),
+            "friction`, or `[contact] friction_from = \"scratch.h5\"`: the friction a "
+            "scratch record of `filmscale md scratch` measured"),
         Key("radius", "m", REQUIRED, 1e-12, 1.0, low_open=True, section="slider",
             doc="the protrusion's radius R"),
         Key("normal_load", "N", REQUIRED, 0.0, 1e6, low_open=True, section="slider",

@@ -27,7 +27,10 @@ SLIDE_MAP_FORMAT = "filmscale.slide_map/1"
 
 
 def _inputs(scene) -> list[tuple[str, Path]]:
-    return [("the input scene", Path(scene.source))]
+    """The files a sliding scene reads: itself and the scratch record of its friction."""
+    record = [("the scratch record of contact.friction_from",
+               Path(scene.friction_source["record"]))] if scene.friction_source else []
+    return [("the input scene", Path(scene.source)), *record]
 
 
 def _friction(value, default: float, name: str = "--friction") -> float:
@@ -93,6 +96,10 @@ def slide_table(d: dict) -> str:
                      + ("shakes down" if sd["shakes_down"] else "beyond the limit: ratchets"))
     else:
         lines.append(f"shakedown: {sd['reason']}")
+    if d.get("friction_source"):
+        src = d["friction_source"]
+        lines.append(f"friction from the scratch record {src['record']}: {src['mean']:.3f} "
+                     f"+- {src['std']:.3f} over {src['points']} points of its steady stroke")
     if d.get("std_note"):
         lines.append(f"std: {d['std_note']}")
     return "\n".join(lines)
@@ -112,7 +119,10 @@ def cmd_slide(args) -> int:
         from .slide_plots import plot_slide
         plot_slide(result, args.plot, title=scene.title and f"{scene.title}: P = "
                    f"{eng(load, 'N')}, μ = {mu:g}")
-    print(dumps(result.to_dict()) if args.json else slide_table(result.to_dict()))
+    d = result.to_dict()
+    if args.friction is None and scene.friction_source is not None:
+        d["friction_source"] = scene.friction_source
+    print(dumps(d) if args.json else slide_table(d))
     return 0
 
 

@@ -2,13 +2,15 @@
 on a target stack (`filmscale slide`, `slide-map`; docs/sliding.md).
 
 A sliding scene holds [slider] (shape, radius, length of a cylinder, normal_load, optional E
-and nu of an elastic slider), [target] as an impact scene's and [contact] friction. Every key
-is checked before any work starts, with the messages of the impact scenes (docs/scenes.md).
+and nu of an elastic slider), [target] as an impact scene's and [contact] friction, stated or
+measured (``friction_from``: a scratch record of `filmscale md scratch`). Every key is checked
+before any work starts, with the messages of the impact scenes (docs/scenes.md).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 from filmscale.continuum.contact.slider import Slider
 from filmscale.continuum.materials import LayerStack
@@ -21,9 +23,12 @@ from filmscale.core.quantities import to_si
 from .scene import check_layer_headers, material, read_stack
 from .scene_keys import key_names, quantity_units, section_keys
 
-#: [contact] of a sliding scene
+#: [contact] of a sliding scene: the friction, stated or measured by a scratch
 FRICTION = Key("friction", "1", 0.0, 0.0, 10.0, section="contact",
                doc="Coulomb coefficient mu of the sliding contact (q = mu p)")
+FRICTION_FROM = Key("friction_from", section="contact", valid="path",
+                    doc="a scratch record (the scratch.h5 of `filmscale md scratch`), relative "
+                    "to the scene: its friction over the steady stroke is the contact's")
 #: the top-level tables of a sliding scene
 SECTIONS = {"title", "description", "slider", "target", "contact"}
 #: what a sliding scene of the pipeline (`filmscale run`) computes: its [outputs] want
@@ -41,6 +46,8 @@ class SlideScene:
     title: str = ""
     text: str = ""
     source: str = ""
+    #: where a measured friction came from: {record, mean, std, points}; None when stated
+    friction_source: dict | None = field(default=None, compare=False)
 
 
 def _in_si(where: str, table: dict) -> dict:
@@ -73,9 +80,30 @@ def read_slider(data: dict) -> tuple[Slider, float]:
     return slider, values["normal_load"]
 
 
-def _read(data: dict, pending=frozenset()):
-    """(slider, load, stack, friction) of a sliding scene's data; the stack is None while a
-    layer in ``pending`` awaits its calibration."""
+def contact_friction(data: dict, base: Path | None = None) -> tuple[float, dict | None]:
+    """The [contact] friction of a sliding scene: stated (``friction``), or the mean friction
+    of a scratch record (``friction_from``, relative to ``base``), with where it came from."""
+    contact = check_keys("contact", data.get("contact", {}), {FRICTION.name, FRICTION_FROM.name})
+    if FRICTION_FROM.name not in contact:
+        return FRICTION.read("contact", contact), None
+    if FRICTION.name in contact:
+        raise InputError("contact.friction and contact.friction_from both given: state the "
+                         "friction or name the scratch record that measured it, not both")
+    given = contact[FRICTION_FROM.name]
+    if not isinstance(given, str) or not given:
+        raise InputError(f"contact.friction_from = {given!r} must be the path of a scratch "
+                         "record (text)")
+    from filmscale.md.scratch_run import read_scratch_friction
+    path = (Path(".") if base is None else Path(base)) / given
+    measured = read_scratch_friction(path, "contact.friction_from")
+    FRICTION.read("contact", {"friction": measured.mean})      # within the key's range
+    return measured.mean, {"record": str(path), "mean": measured.mean, "std": measured.std,
+                           "points": measured.points}
+
+
+def _read(data: dict, pending=frozenset(), base: Path | None = None):
+    """(slider, load, stack, friction, its source) of a sliding scene's data; the stack is
+    None while a layer in ``pending`` awaits its calibration."""
     if "impactor" in data:
         raise InputError("the scene has an [impactor]: `filmscale slide` reads a sliding "
                          "scene with a [slider] (docs/sliding.md); impact scenes go to "
@@ -83,28 +111,31 @@ def _read(data: dict, pending=frozenset()):
     check_keys("scene", data, SECTIONS)
     slider, load = read_slider(data)
     stack = read_stack(data, pending)
-    contact = check_keys("contact", data.get("contact", {}), {FRICTION.name})
-    return slider, load, stack, FRICTION.read("contact", contact)
+    return (slider, load, stack, *contact_friction(data, base))
 
 
-def slide_scene_from_data(data: dict, text: str = "", source: str = "<scene>") -> SlideScene:
-    """Validate a sliding scene already read from TOML (``text`` kept for provenance)."""
-    slider, load, stack, friction = _read(data)
-    return SlideScene(slider, stack, load, friction, str(data.get("title", "")), text, source)
+def slide_scene_from_data(data: dict, text: str = "", source: str = "<scene>",
+                          base: Path | None = None) -> SlideScene:
+    """Validate a sliding scene already read from TOML (``text`` kept for provenance;
+    ``base``: the folder that relative file names use)."""
+    slider, load, stack, friction, origin = _read(data, base=base)
+    return SlideScene(slider, stack, load, friction, str(data.get("title", "")), text, source,
+                      origin)
 
 
-def check_slide_data(data: dict, pending=frozenset()) -> None:
+def check_slide_data(data: dict, pending=frozenset(), base: Path | None = None) -> None:
     """Every check of `slide_scene_from_data` on ``data``, whose layers in ``pending`` may
     still lack the E and sigma_y that their calibration will give (they must state nu)."""
-    _read(data, pending)
+    _read(data, pending, base)
 
 
-def parse_slide_scene(text: str, source: str = "<scene>") -> SlideScene:
+def parse_slide_scene(text: str, source: str = "<scene>", base: Path | None = None
+                      ) -> SlideScene:
     check_layer_headers(text)
-    return slide_scene_from_data(parse_toml(text, "scene", source), text, source)
+    return slide_scene_from_data(parse_toml(text, "scene", source), text, source, base)
 
 
 def load_slide_scene(path) -> SlideScene:
     """Read and validate a sliding scene file."""
     path = check_path("path", path)
-    return parse_slide_scene(read_text(path, "scene"), source=str(path))
+    return parse_slide_scene(read_text(path, "scene"), source=str(path), base=path.parent)

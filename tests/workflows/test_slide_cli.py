@@ -167,3 +167,51 @@ def test_slide_map_refusals(tmp_path, capsys):
 def test_a_film_far_thinner_than_the_contact_exits_2_at_once(tmp_path, capsys):
     code, out = _run(tmp_path, capsys, EDGE + FILM.replace('"20 nm"', '"0.01 nm"'))
     assert code == 2 and "target.layers[0] (DLC)" in out.err and out.err.count("\n") == 1
+
+
+# ------------------------------------------------------------------ friction from a scratch
+def _scratch_record(path, mean=0.24, std=0.04, points=180, fmt="filmscale.md_scratch/1"):
+    """A scratch record as `filmscale md scratch` writes its analysis (format, analysis attrs)."""
+    with h5py.File(path, "w") as f:
+        f.attrs["format"] = fmt
+        a = f.create_group("analysis")
+        a.attrs["friction_mean"], a.attrs["friction_std"] = mean, std
+        a.attrs["steady_points"] = points
+    return path
+
+
+def test_friction_from_a_scratch_record(tmp_path, capsys):
+    _scratch_record(tmp_path / "scratch.h5")
+    text = EDGE.replace("friction = 0.2", 'friction_from = "scratch.h5"')
+    code, out = _run(tmp_path, capsys, text, "--json")
+    assert code == 0, out.err
+    d = json.loads(out.out)
+    assert d["friction"] == 0.24
+    assert d["friction_source"]["std"] == 0.04 and d["friction_source"]["points"] == 180
+    ref = cylinder_sliding(10e-3, 10e-6, 10e-6, 160e9, 0.3, 0.24, 2.5e9)
+    assert d["layers"][0]["von_mises_max"] == pytest.approx(ref.vm_max, rel=1e-5)
+    code, out = _run(tmp_path, capsys, text)
+    assert "friction from the scratch record" in out.out and "0.240 +- 0.040" in out.out
+    # --friction replaces the record's, and says no source
+    code, out = _run(tmp_path, capsys, text, "--json", "--friction", "0.1")
+    assert json.loads(out.out)["friction"] == 0.1 and "friction_source" not in out.out
+    # the record is an input: a plot may not overwrite it, whatever its name
+    _scratch_record(tmp_path / "record.png")
+    code, out = _run(tmp_path, capsys, text.replace("scratch.h5", "record.png"), "--plot",
+                     str(tmp_path / "record.png"))
+    assert code == 2 and "scratch record" in out.err, out.err
+
+
+@pytest.mark.parametrize("setup, match", [
+    ("both", "contact.friction and contact.friction_from"),
+    ("missing", "contact.friction_from = .* is not a file"),
+    ("other", "is not a scratch record"),
+])
+def test_friction_from_refusals(tmp_path, capsys, setup, match):
+    _scratch_record(tmp_path / "other.h5", fmt="filmscale.impact_map/2")
+    _scratch_record(tmp_path / "scratch.h5")
+    name = {"both": "scratch.h5", "missing": "nope.h5", "other": "other.h5"}[setup]
+    new = f'friction_from = "{name}"' + ("\nfriction = 0.2" if setup == "both" else "")
+    code, out = _run(tmp_path, capsys, EDGE.replace("friction = 0.2", new))
+    assert code == 2 and out.err.count("\n") == 1
+    assert pytest.importorskip("re").search(match, out.err), out.err

@@ -221,3 +221,34 @@ def test_a_sweep_of_sliding_scenes_runs_each_load_on_one_calibration(folder, cap
             stored = json.loads(f["slide"].attrs["result"])
         assert stored["normal_load"] == load
         assert stored["p0"] == pytest.approx(by_hand(E, sy, load).contact.p0, rel=1e-12)
+
+
+def test_a_pipeline_sliding_scene_takes_its_friction_from_a_scratch_record(tmp_path):
+    """[contact] friction_from: the plan's and the run's friction are the record's mean."""
+    from filmscale.workflows.pipeline_scene import parse_pipeline
+    with h5py.File(tmp_path / "scratch.h5", "w") as f:
+        f.attrs["format"] = "filmscale.md_scratch/1"
+        a = f.create_group("analysis")
+        a.attrs["friction_mean"], a.attrs["friction_std"], a.attrs["steady_points"] = \
+            0.31, 0.05, 90
+    text = """
+[slider]
+shape = "cylinder"
+radius = 1e-5
+length = 1e-5
+normal_load = 1e-2
+[contact]
+friction_from = "scratch.h5"
+[target.substrate]
+name = "NiP"
+E = 160e9
+nu = 0.3
+sigma_y = 2.5e9
+"""
+    pipeline = parse_pipeline(text, str(tmp_path / "s.toml"), tmp_path)
+    assert pipeline.friction == 0.31
+    scene = pipeline.slide_scene({})
+    assert scene.friction == 0.31 and scene.friction_source["std"] == 0.05
+    with pytest.raises(InputError, match="contact.friction_from"):
+        parse_pipeline(text.replace("scratch.h5", "none.h5"), str(tmp_path / "s.toml"),
+                       tmp_path)

@@ -148,7 +148,7 @@ SCRATCH_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_f
                 "steady_points")
 
 
-def _print_scratch(run, a, record: Path) -> None:
+def _print_scratch(run, a, record: Path, plot=None) -> None:
     print(f"friction {a.friction_mean:.3f} +- {a.friction_std:.3f} over {a.steady_points} "
           f"points of the steady stroke; normal force {a.normal_force_mean * 1e9:.2f} nN, "
           f"lateral force {a.lateral_force_mean * 1e9:.2f} nN")
@@ -158,6 +158,8 @@ def _print_scratch(run, a, record: Path) -> None:
     for d in a.damage:
         print(f"damage (eta_Mises > {a.damage_threshold:g}) in {d.layer}: width "
               f"{d.width * 1e9:.3f} nm, depth {d.depth * 1e9:.3f} nm ({d.atoms} atoms)")
+    if plot:
+        print(f"plot: {plot}")
     print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
 
 
@@ -172,6 +174,7 @@ def cmd_md_scratch(args) -> int:
     out = Path(args.out) if args.out else run_dir_for("md_runs", spec.name)
     check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
                      args.force)
+    _check_plot(args)
     total = spec.schedule().s_end
     if not args.json:
         print(f"{spec.name}: {spec.indent.slab_built.n_atoms} atoms, {total} steps, "
@@ -184,14 +187,17 @@ def cmd_md_scratch(args) -> int:
     analysis = analyze_scratch(run)
     record = write_scratch_record(run, analysis, provenance=provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
+    if args.plot:
+        from filmscale.workflows.scratch_plots import plot_scratch, scratch_figure_data
+        plot_scratch(scratch_figure_data(run, analysis), args.plot)
     if args.json:
         figures = {k: getattr(analysis, k) for k in SCRATCH_KEYS}
         figures["damage"] = [{"layer": d.layer, "width": d.width, "depth": d.depth}
                              for d in analysis.damage]
         print(dumps({**figures, "n_atoms": run.n_atoms, "n_steps": run.n_steps,
-                     "wall_time": run.wall_time, "result": str(record)}))
+                     "wall_time": run.wall_time, "result": str(record), "plot": args.plot}))
     else:
-        _print_scratch(run, analysis, record)
+        _print_scratch(run, analysis, record, args.plot)
     return 0
 
 
@@ -253,6 +259,9 @@ def add_arguments(sub) -> None:
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="plot the forces and friction against the sliding distance, the "
+                        "residual groove profile and the cross-section of the plastic zone")
     add_force_argument(p)
     p.set_defaults(func=cmd_md_scratch)
 

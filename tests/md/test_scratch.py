@@ -210,3 +210,24 @@ def test_ci_scratch_json(ci_scratch, capsys):
     assert d["damage"][0]["layer"] == "substrate" and 0 < d["damage"][0]["depth"] < 3e-9
     assert set(d["damage"][0]) == {"layer", "width", "depth"}
     assert d["result"].endswith("scratch.h5")
+
+
+def test_ci_scratch_plot(ci_scratch, tmp_path, capsys):
+    """--plot writes the figure (a PNG) of the finished run, read back without LAMMPS, and
+    the figure's data are the run's: the stroke's forces, the analysis's profile, the atoms
+    of the damage analysis's cross-section and a damaged region as wide as the analysis's."""
+    from filmscale.md.scratch_run import analyze_scratch, stroke_mask
+    from filmscale.workflows.scratch_plots import scratch_figure_data
+    run, out = ci_scratch
+    png = tmp_path / "scratch.png"
+    assert main(["md", "scratch", "--preset", "ci", "--out", str(out), "--json",
+                 "--plot", str(png)]) == 0
+    assert json.loads(capsys.readouterr().out)["plot"] == str(png)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+    a = analyze_scratch(run)
+    d = scratch_figure_data(run, a)
+    assert d.distance.size == int(stroke_mask(run).sum()) and d.distance[0] >= 0
+    assert 0.9 * run.spec.stroke.length < d.distance[-1] <= run.spec.stroke.length
+    assert d.groove_edges[1] - d.groove_edges[0] == pytest.approx(a.groove_width)
+    assert int(np.sum(d.section_eta > a.damage_threshold)) == a.damage[0].atoms
+    assert d.damage[0].width == pytest.approx(a.damage[0].width)

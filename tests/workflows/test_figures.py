@@ -2,7 +2,8 @@
 the sphere map (two targets and their ratio), the oblique maps over (V, angle) and (V, R), the
 cylinder (edge) map, an elastic map whose residual depth is blank, the impact histories of a
 sphere and a cylinder, the indentation curve analysis, the scene figure of a pipeline
-result, and a sliding contact's x-z field and first-yield map. In each: (a) no two visible tick labels of one axis overlap, and no axis writes an
+result, a sliding contact's x-z field and first-yield map, and an MD nanoscratch's forces,
+groove and plastic zone. In each: (a) no two visible tick labels of one axis overlap, and no axis writes an
 offset or multiplier ("1e6") beside them; (b) every axes with
 data has an x and a y label (its own or the figure's shared one), and a dimensional
 quantity's label carries its unit in parentheses; (c) colour-bar tick labels and labels lie
@@ -114,6 +115,34 @@ def _slide_figures():
     return field, plot_slide_map(mp, title="an edge on two films")
 
 
+def _scratch_figure():
+    """A synthetic two-layer scratch: forces over a 3 nm stroke, a groove 0.4 nm deep with
+    pile-up either side, and a cross-section of atoms whose strain falls off from the groove,
+    damaged in both layers."""
+    from filmscale.workflows.scratch_plots import (DamageBox, ScratchFigureData, groove_edges,
+                                                   plot_scratch)
+    rng = np.random.default_rng(7)
+    s = np.linspace(0.0, 3e-9, 300)
+    Fn = 60e-9 + 3e-9 * rng.standard_normal(s.size)
+    Fl = 15e-9 * (1 - np.exp(-s / 0.3e-9)) + 1.5e-9 * rng.standard_normal(s.size)
+    y = np.linspace(-2.9e-9, 2.9e-9, 30)
+    h = -0.4e-9 * np.exp(-(y / 0.9e-9) ** 2) + 0.15e-9 * np.exp(-((np.abs(y) - 1.8e-9)
+                                                               / 0.5e-9) ** 2)
+    ys, zs = np.meshgrid(np.arange(-2.9e-9, 2.95e-9, 0.18e-9), np.arange(-3e-9, 0.0, 0.18e-9))
+    ys, zs = ys.ravel(), zs.ravel()
+    eta = 0.5 * np.exp(-(ys**2 + zs**2) / (1.1e-9) ** 2)
+    mu = Fl[100:250] / Fn[100:250]
+    return plot_scratch(ScratchFigureData(
+        name="Cu on Ni", distance=s, normal_force=Fn, lateral_force=Fl, stroke_length=3e-9,
+        steady=(0.6e-9, 2.4e-9), friction_mean=float(mu.mean()),
+        friction_std=float(mu.std(ddof=1)), profile_y=y, profile_h=h,
+        groove_depth=float(-h.min()), groove_width=1.6e-9,
+        groove_edges=groove_edges(y, h, 1.5e-9), pileup_height=float(h.max()),
+        section_y=ys, section_h=zs, section_eta=eta, interfaces=(1.0e-9,),
+        damage=(DamageBox("Cu", -1.3e-9, 1.3e-9, 0.98e-9, 120),
+                DamageBox("Ni", -0.9e-9, 0.9e-9, 1.4e-9, 40, top=1.0e-9))))
+
+
 FIGURES = {
     "sphere map": lambda tmp: plot_impact_maps(_sphere_maps(), title="a steel sphere"),
     "elastic map": lambda tmp: plot_impact_maps(_elastic_map(),
@@ -130,6 +159,7 @@ FIGURES = {
     "scene figure": _scene_result,
     "slide field": lambda tmp: _slide_figures()[0],
     "slide map": lambda tmp: _slide_figures()[1],
+    "scratch": lambda tmp: _scratch_figure(),
 }
 
 

@@ -1,0 +1,298 @@
+"""The figure of an atomistic nanoscratch (`filmscale md scratch --plot`, docs/md-indentation.md):
+what a reader of the seed dissertation's chapter 7 looks for. Pyplot-free, as `plots`.
+
+Four panels: the normal and lateral force on the indenter against its sliding distance, the
+steady part of the first pass (20-80 % of the stroke, where the friction is averaged) shaded;
+the friction coefficient F_lat / F_n against the same distance, its steady mean +- std drawn;
+the residual groove profile across the groove at mid-stroke, with the undeformed surface (0),
+the groove depth, width and pile-up marked; and the cross-section of the plastic zone: the
+atoms of the groove's cross-section (the damage analysis's selection: within
+`scratch_run.WINDOW` of mid-stroke x, as built) at their final y and height, coloured by their
+atomic von Mises strain on a scale clipped at `ETA_MAX`, the damage threshold marked on the
+colour bar, the layer interfaces dashed and each layer's damaged region (its width and depth,
+measured on the as-built positions as `md.damage` measures them) boxed.
+
+`scratch_figure_data` gathers what the figure draws from a run and its analysis
+(`md.scratch_run.read_scratch`, `analyze_scratch`) into a `ScratchFigureData` of plain arrays
+(SI), which `plot_scratch` draws; a test or a notebook can build the data directly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.colors import Normalize
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
+
+from .plots import new_figure, save_figure
+
+#: the top of the eta_Mises colour scale (higher strains take its top colour), and its ticks
+ETA_MAX = 0.3
+ETA_TICKS = (0.0, 0.1, 0.2, 0.3)
+#: nm and nN per SI unit: the scale of an atomistic scratch
+NM, NN = 1e9, 1e9
+#: the colours of the layers' damaged-region boxes, top layer first
+BOX_COLOURS = ("tab:red", "tab:orange", "tab:pink", "tab:brown")
+
+
+@dataclass(frozen=True)
+class DamageBox:
+    """The damaged region of one layer in the cross-section (SI, as built): y from the groove
+    axis of its outermost damaged atoms, the depth below the undeformed surface of its
+    deepest one, and that of the layer's top (0 for the top layer), where its box starts."""
+
+    layer: str
+    y_min: float
+    y_max: float
+    depth: float
+    atoms: int
+    top: float = 0.0
+
+    @property
+    def width(self) -> float:
+        return self.y_max - self.y_min
+
+
+@dataclass(frozen=True)
+class ScratchFigureData:
+    """What `plot_scratch` draws, SI (m, N)."""
+
+    name: str
+    distance: np.ndarray          #: sliding distance of the indenter along its path, m
+    normal_force: np.ndarray      #: N, at each distance
+    lateral_force: np.ndarray     #: N, positive against the motion
+    stroke_length: float          #: of one pass, m
+    steady: tuple[float, float]   #: distances of the steady part of the first pass, m
+    friction_mean: float
+    friction_std: float
+    profile_y: np.ndarray         #: bin centres, m from the groove axis
+    profile_h: np.ndarray         #: surface height above the undeformed surface, m
+    groove_depth: float
+    groove_width: float
+    groove_edges: tuple[float, float]   #: y of the profile's zero crossings, m (NaN: none)
+    pileup_height: float
+    section_y: np.ndarray         #: final y of the cross-section's atoms, m from the axis
+    section_h: np.ndarray         #: their final height above the undeformed surface, m
+    section_eta: np.ndarray       #: their eta_Mises (NaN: not defined)
+    interfaces: tuple[float, ...] = ()     #: depths of the layer interfaces, m (positive)
+    damage: tuple[DamageBox, ...] = ()     #: per layer, top layer first
+    threshold: float = 0.1
+
+
+def groove_edges(y: np.ndarray, h: np.ndarray, contact_radius: float) -> tuple[float, float]:
+    """The y either side of the groove's lowest point (within ``contact_radius`` of the axis)
+    where the profile first rises through zero, interpolated as `scratch_run` measures the
+    groove width; NaN where there is none."""
+    inside = (np.abs(y) <= contact_radius) & np.isfinite(h)
+    if not np.any(inside) or np.nanmin(h[inside]) >= 0:
+        return math.nan, math.nan
+    i0 = int(np.flatnonzero(inside)[np.argmin(h[inside])])
+    ends = []
+    for step in (-1, 1):
+        i = i0
+        while 0 <= i + step < len(h) and h[i + step] < 0:
+            i += step
+        j = i + step
+        if not 0 <= j < len(h) or not np.isfinite(h[j]):
+            ends.append(math.nan)
+            continue
+        ends.append(float(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i])))
+    return ends[0], ends[1]
+
+
+def _minimum_image(d: np.ndarray, period: float) -> np.ndarray:
+    return d - period * np.round(d / period)
+
+
+def scratch_figure_data(run, analysis) -> ScratchFigureData:
+    """The figure's data of a `ScratchRun` and its `ScratchAnalysis`: the forces over the
+    stroke (every pass, against the distance slid), the analysis's profile and figures, and
+    the atoms of the damage analysis's cross-section with their damaged regions per layer."""
+    from filmscale.md.damage import layer_index
+    from filmscale.md.lammps_units import lammps_to_si
+    from filmscale.md.scratch_run import STEADY, WINDOW, stroke_mask
+
+    spec = run.spec
+    s = spec.schedule()
+    slab = spec.indent.slab_built
+    on = stroke_mask(run)
+    L = spec.stroke.length
+    a = run.final_atoms
+    x0 = lammps_to_si(slab.atoms.positions, "length")[a["id"] - 1]
+    Lx, Ly = slab.box[:2]
+    x_mid = spec.x_start + 0.5 * L
+    section = np.abs(_minimum_image(x0[:, 0] - x_mid, Lx)) <= WINDOW
+    eta = (analysis.eta_mises if analysis.eta_mises is not None
+           else np.full(len(a["id"]), np.nan))
+    y0 = _minimum_image(x0[:, 1] - spec.y_center, Ly)
+    layer = layer_index(x0[:, 2], slab.layer_tops)
+    hit = section & (np.nan_to_num(eta, nan=0.0) > analysis.damage_threshold)
+    boxes = []
+    for k, d in enumerate(analysis.damage):
+        m = hit & (layer == k)
+        if np.any(m):
+            top = 0.0 if k == 0 else slab.z_surface - slab.layer_tops[k]
+            boxes.append(DamageBox(d.layer, float(y0[m].min()), float(y0[m].max()), d.depth,
+                                   d.atoms, top))
+    return ScratchFigureData(
+        name=spec.name, distance=s.dx * (run.data["step"][on] - s.s_stroke),
+        normal_force=run.normal_force[on], lateral_force=run.lateral_force[on],
+        stroke_length=L, steady=(STEADY[0] * L, STEADY[1] * L),
+        friction_mean=analysis.friction_mean, friction_std=analysis.friction_std,
+        profile_y=analysis.profile_y, profile_h=analysis.profile_h,
+        groove_depth=analysis.groove_depth, groove_width=analysis.groove_width,
+        groove_edges=groove_edges(analysis.profile_y, analysis.profile_h,
+                                  spec.contact_radius),
+        pileup_height=analysis.pileup_height,
+        section_y=_minimum_image(a["y"][section] - spec.y_center, Ly),
+        section_h=a["z"][section] - run.z_surface, section_eta=eta[section],
+        interfaces=tuple(slab.z_surface - t for t in slab.layer_tops[1:]),
+        damage=tuple(boxes), threshold=analysis.damage_threshold)
+
+
+def _steady_span(ax, d: ScratchFigureData, label: bool) -> None:
+    lo, hi = d.steady
+    ax.axvspan(lo * NM, hi * NM, color="0.9", lw=0,
+               label="steady part (20-80 % of the first pass)" if label else None)
+    passes = int(round(float(np.max(d.distance, initial=0.0)) / d.stroke_length))
+    for k in range(1, passes):
+        ax.axvline(k * d.stroke_length * NM, color="0.5", lw=0.8, ls=":",
+                   label="end of a pass" if label and k == 1 else None)
+
+
+def _legend_below(ax, ncol: int = 2) -> None:
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=ncol,
+              frameon=False)
+
+
+def _draw_forces(ax, d: ScratchFigureData) -> None:
+    _steady_span(ax, d, True)
+    ax.plot(d.distance * NM, d.normal_force * NN, "-", lw=1.0, color="tab:blue",
+            label="normal force F_n")
+    ax.plot(d.distance * NM, d.lateral_force * NN, "-", lw=1.0, color="tab:red",
+            label="lateral force F_lat (against the motion)")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("sliding distance (nm)")
+    ax.set_ylabel("force (nN)")
+    ax.set_title("forces on the indenter", fontsize=9)
+    _legend_below(ax)
+
+
+def _draw_friction(ax, d: ScratchFigureData) -> None:
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu = np.where(d.normal_force > 0, d.lateral_force / d.normal_force, np.nan)
+    _steady_span(ax, d, False)
+    ax.plot(d.distance * NM, mu, ".", ms=2.5, color="0.3", label="F_lat / F_n", zorder=3)
+    lo, hi = d.steady
+    if np.isfinite(d.friction_mean):
+        std = d.friction_std if np.isfinite(d.friction_std) else 0.0
+        ax.fill_between([lo * NM, hi * NM], d.friction_mean - std, d.friction_mean + std,
+                        color="tab:orange", alpha=0.3, lw=0)
+        ax.plot([lo * NM, hi * NM], [d.friction_mean] * 2, "-", color="tab:orange", lw=1.8,
+                label=f"steady mean +- std: {d.friction_mean:.3f} +- {std:.3f}")
+    ax.set_xlabel("sliding distance (nm)")
+    ax.set_ylabel("friction coefficient μ = F_lat / F_n")
+    ax.set_title("friction", fontsize=9)
+    _legend_below(ax)
+
+
+def _draw_profile(ax, d: ScratchFigureData) -> None:
+    y, h = d.profile_y * NM, d.profile_h * NM
+    ax.axhline(0.0, color="0.5", lw=0.9, ls="--", label="undeformed surface (0)")
+    ax.plot(y, h, "o-", ms=3, lw=1.2, color="tab:blue", label="surface height at mid-stroke")
+    finite = np.isfinite(h)
+    if np.isfinite(d.groove_depth) and d.groove_depth > 0 and np.any(finite):
+        left, right = d.groove_edges
+        within = finite & ~((y < left * NM) | (y > right * NM))     # NaN edges: everywhere
+        y_low = y[int(np.argmin(np.where(within if within.any() else finite, h, np.inf)))]
+        ax.plot([y_low, y_low], [0.0, -d.groove_depth * NM], "-", color="tab:red", lw=2,
+                marker="_", ms=10, label=f"groove depth {d.groove_depth * NM:.2f} nm")
+    left, right = d.groove_edges
+    if np.isfinite(left) and np.isfinite(right):
+        ax.plot([left * NM, right * NM], [0.0, 0.0], "-", color="tab:green", lw=2.5,
+                marker="|", ms=12, mew=2,
+                label=f"groove width {d.groove_width * NM:.2f} nm")
+    if np.isfinite(d.pileup_height) and np.any(finite):
+        top = int(np.argmax(np.where(finite, h, -np.inf)))
+        ax.plot([y[top]], [d.pileup_height * NM], "v", ms=8, color="tab:purple",
+                label=f"pile-up {d.pileup_height * NM:.2f} nm")
+    ax.set_xlabel("y across the groove (nm)")
+    ax.set_ylabel("surface height (nm)")
+    ax.set_title("residual groove at mid-stroke", fontsize=9)
+    _legend_below(ax)
+
+
+def _marker_area(d: ScratchFigureData, ax_inches: float) -> float:
+    """Marker area (pt^2) of an atom: about half its spacing (the cube root of the volume
+    per atom) at the panel's scale, so that the atoms of neighbouring columns of the
+    projection stay apart."""
+    span_y = float(np.ptp(d.section_y)) if d.section_y.size else 1e-9
+    span_h = float(np.ptp(d.section_h)) if d.section_h.size else 1e-9
+    per_atom = (span_y * span_h * 1e-9 / max(d.section_y.size, 1)) ** (1 / 3)
+    diameter = 0.55 * per_atom / max(span_y, 1e-12) * ax_inches * 72
+    return float(np.clip(diameter, 1.5, 14.0) ** 2)
+
+
+def _draw_section(fig, ax, d: ScratchFigureData) -> None:
+    order = np.argsort(np.nan_to_num(d.section_eta, nan=-1.0))      # damaged atoms on top
+    cmap = colormaps["viridis"].with_extremes(bad="0.75")
+    dots = ax.scatter(d.section_y[order] * NM, d.section_h[order] * NM,
+                      c=d.section_eta[order], cmap=cmap, norm=Normalize(0.0, ETA_MAX),
+                      s=_marker_area(d, 4.2), lw=0, plotnonfinite=True)
+    ax.axhline(0.0, color="0.5", lw=0.9, ls="--", label="undeformed surface (0)")
+    for k, depth in enumerate(d.interfaces):
+        ax.axhline(-depth * NM, color="k", lw=1.0, ls="-.",
+                   label="layer interface" if k == 0 else None)
+    for k, box in enumerate(d.damage):
+        ax.add_patch(Rectangle((box.y_min * NM, -box.depth * NM), box.width * NM,
+                               (box.depth - box.top) * NM, fill=False, lw=1.6, ls="--",
+                               ec=BOX_COLOURS[k % len(BOX_COLOURS)],
+                               label=f"damaged in {box.layer} (eta_Mises > {d.threshold:g}): "
+                                     f"width {box.width * NM:.2f} nm, depth "
+                                     f"{box.depth * NM:.2f} nm"))
+    left, right = d.groove_edges
+    if np.isfinite(left) and np.isfinite(right):
+        for k, edge in enumerate((left, right)):
+            ax.axvline(edge * NM, color="tab:green", lw=1.0, ls=":",
+                       label="groove edges (profile crossing 0)" if k == 0 else None)
+    if not d.damage:
+        ax.text(0.02, 0.04, f"no atom over eta_Mises {d.threshold:g}", fontsize=8,
+                transform=ax.transAxes)
+    cb = fig.colorbar(dots, ax=ax, extend="max", shrink=0.95)
+    ticks = sorted([t for t in ETA_TICKS if abs(t - d.threshold) > 0.03]
+                   + [d.threshold])
+    cb.set_ticks(ticks, labels=[f"{t:g} threshold" if math.isclose(t, d.threshold)
+                                else f"{t:g}" for t in ticks])
+    cb.ax.axhline(d.threshold, color="w", lw=2.5)
+    cb.ax.axhline(d.threshold, color="k", lw=1.2)
+    cb.set_label("atomic von Mises strain η_Mises (dimensionless)")
+    ax.set_xlabel("y across the groove (nm)")
+    ax.set_ylabel("height above the surface (nm)")
+    ax.set_title("plastic zone: atoms of the mid-stroke cross-section", fontsize=9)
+    _legend_below(ax, ncol=1)
+
+
+def plot_scratch(data: ScratchFigureData, path=None, title: str = "") -> Figure:
+    """Forces and friction against the sliding distance, the residual groove profile and the
+    cross-section of the plastic zone (the module docstring); the Figure, also saved
+    (atomically) to ``path`` when given."""
+    fig, axes = new_figure(2, 2, figsize=(12.0, 9.0))
+    _draw_forces(axes[0][0], data)
+    _draw_friction(axes[1][0], data)
+    _draw_profile(axes[0][1], data)
+    _draw_section(fig, axes[1][1], data)
+    for ax in axes.flat:
+        ax.ticklabel_format(useOffset=False)
+    if data.profile_y.size and data.section_y.size:
+        lo = min(data.profile_y.min(), data.section_y.min()) * NM
+        hi = max(data.profile_y.max(), data.section_y.max()) * NM
+        for ax in axes[:, 1]:
+            ax.set_xlim(lo - 0.1, hi + 0.1)
+    fig.suptitle(title or f"{data.name}: nanoscratch", fontsize=11)
+    if path is not None:
+        save_figure(fig, path)
+    return fig

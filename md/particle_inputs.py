@@ -290,6 +290,12 @@ def _tlsph_material(m: ParticleMaterial) -> str:
     return f"{common} {strength} *EOS_LINEAR *END"
 
 
+def tlsph_material(m: ParticleMaterial) -> str:
+    """The ``pair_coeff`` keywords of ``m`` for ``smd/tlsph`` (what the particle scratch,
+    `filmscale.md.particle_scratch`, shares with the indentation)."""
+    return _tlsph_material(m)
+
+
 def johnson_cook_hardening(mat: ElasticPlastic) -> tuple[float, float, float]:
     """Johnson-Cook strain hardening A + B eps_p^N (Pa, Pa, -; Johnson & Cook 1983, without
     its rate and thermal factors) matching the power law sigma_y (1 + E eps_p / sigma_y)^n

@@ -129,6 +129,12 @@ def _target(table: dict) -> ParticleTarget:
     return ParticleTarget(_material("target.substrate", substrate), tuple(films))
 
 
+def target_from_table(table: dict) -> ParticleTarget:
+    """The ``[target]`` table of a spec (substrate, films) as a `ParticleTarget`: what the
+    particle scratch spec (`filmscale.md.particle_scratch`) shares with this one."""
+    return _target(table)
+
+
 def spec_from_mapping(data: dict, kind: str) -> ParticleIndentSpec | ParticleImpactSpec:
     """A spec from a parsed TOML table; ``kind`` is ``indent`` or ``impact``."""
     section = "loading" if kind == "indent" else "impact"

@@ -64,6 +64,45 @@ def cmd_particles(args) -> int:
     return 0
 
 
+def cmd_particles_scratch(args) -> int:
+    from filmscale.md.engine import EngineOptions
+    from filmscale.md.lammps_input import run_dir_for
+    from filmscale.md.particle_scratch import estimated_steps, load_spec, preset
+    from filmscale.md.particle_scratch_run import (JSON_KEYS, analyze_scratch, run_scratch,
+                                                   write_scratch_record)
+    from filmscale.workflows.progress import progress_bar, step_callback
+
+    if (args.spec is None) == (args.preset is None):
+        raise InputError("give a spec file or --preset NAME (one of them)")
+    spec = preset(args.preset) if args.preset else load_spec(args.spec)
+    engine = EngineOptions(np=args.np, omp_threads=1)
+    out = Path(args.out) if args.out else run_dir_for("md_runs", f"particles-{spec.name}")
+    check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
+                     args.force)
+    total = estimated_steps(spec)
+    if not args.json:
+        print(f"{spec.name}: {spec.method} scratch, {spec.grid.n_particles} particles, about "
+              f"{total} steps, {args.np} rank(s); run directory {out}", file=sys.stderr)
+    bar = progress_bar(total, "step", spec.name)
+    try:
+        run = run_scratch(spec, out, engine, progress=step_callback(bar, total))
+    finally:
+        bar.close()
+    analysis = analyze_scratch(run)
+    record = write_scratch_record(run, analysis, provenance(
+        command="filmscale " + " ".join(sys.argv[1:])))
+    if args.json:
+        figures = {k: getattr(analysis, k) for k in JSON_KEYS}
+        figures["damage"] = [{"layer": z.layer, "width": z.width, "depth": z.depth}
+                             for z in analysis.damage]
+        print(dumps({**figures, "particles": analysis.particles, "steps": analysis.steps,
+                     "wall_time": analysis.wall_time, "result": str(record)}))
+    else:
+        print(analysis.summary())
+        print(f"record: {record}")
+    return 0
+
+
 def add_arguments(sub) -> None:
     """Register ``particles`` on the top-level subparsers."""
     p = sub.add_parser("particles", help="SPH and peridynamics particle models in LAMMPS")
@@ -88,3 +127,16 @@ def add_arguments(sub) -> None:
         q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
         add_force_argument(q)
         q.set_defaults(func=cmd_particles, kind=kind)
+    q = psub.add_parser("scratch", help="scratch with a rigid sphere (TLSPH, homogeneous)",
+                        description="Run a particle-model scratch (down, a stroke along x, up, "
+                                    "relax), analyse friction and the residual groove and "
+                                    "write the HDF5 record (particle_scratch.h5).")
+    q.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
+    q.add_argument("--preset", metavar="ci", help="a built-in spec instead of a spec file: ci "
+                                                  "(elastic, seconds)")
+    q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
+    q.add_argument("--out", metavar="DIR",
+                   help="run directory (default md_runs/particles-NAME)")
+    q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    add_force_argument(q)
+    q.set_defaults(func=cmd_particles_scratch, kind="scratch")

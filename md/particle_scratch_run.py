@@ -1,0 +1,321 @@
+"""Running a particle scratch (`filmscale.md.particle_scratch`), what it says, and its record.
+
+The run directory holds ``in.tlsph``, its log, the record ``scratch.dat``, the field dumps
+(``fields.STEP.dump``; the first one is the undeformed block) and ``final.dump`` (after the
+relaxation), and ``state.json``; a directory whose run finished with the same input is read
+back without LAMMPS (MACHDYN writes no restart files: an interrupted run starts again).
+
+Friction, as `md scratch` (`filmscale.md.scratch_run`): over the steady part of the first
+pass, the tip's x between `STEADY` 20 % and 80 % of the stroke length, mu_i = F_lat,i / F_n,i
+at every recorded point; ``friction_mean``, ``friction_std`` their mean and standard
+deviation, ``normal_force_mean``, ``lateral_force_mean`` the mean forces there (N).
+
+Groove: the surface particles (the top lattice plane) of the lattice column nearest mid-stroke
+x; the height of each is its final z minus its initial z (0), against its final y, mirrored to
+-y in a half model. ``groove_depth`` is minus the lowest height within the contact radius of
+the axis, ``groove_width`` the distance between the points either side of it where the
+profile first rises through zero (linear interpolation; 0 when no height is below zero),
+``pileup_height`` the highest height, ``edge_height`` the mean height of the particles
+farther than twice the contact radius from the axis.
+
+Plastic zone: the particles of that mid-stroke cross-section whose TLSPH equivalent plastic
+strain (``smd/plastic/strain``) exceeds `PLASTIC_THRESHOLD`: its ``width`` (y extent, both
+sides) and ``depth`` (below the undeformed surface), per layer (TLSPH targets are homogeneous:
+one layer, ``substrate``); 0 and 0 where no particle yielded.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from filmscale.core.errors import InputError
+from filmscale.core.files import read_json, write_json
+from filmscale.core.jsonable import to_jsonable
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.lammps_input import write_input
+from filmscale.md.lammps_units import lammps_to_si
+from filmscale.md.particle_run import FieldSnapshot, read_snapshot
+from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
+                                           estimated_steps, path_direction, scratch_input)
+
+STATE_FILE = "state.json"
+STEADY = (0.2, 0.8)           #: the steady part of a pass, fractions of its length
+PLASTIC_THRESHOLD = 1e-3      #: equivalent plastic strain that marks the plastic zone
+#: the figures of `particles scratch --json` (SI), those of `md scratch --json`
+JSON_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_force_mean",
+             "groove_depth", "groove_width", "pileup_height", "edge_height", "steady_points")
+
+
+@dataclass(frozen=True)
+class ParticleScratchRun:
+    """A finished run, SI: the record's columns, the first and final field dumps."""
+
+    spec: ParticleScratchSpec
+    run_dir: Path
+    time: np.ndarray
+    x_tip: np.ndarray
+    depth: np.ndarray
+    fx: np.ndarray        #: force on the indenter along x, N (whole model)
+    fz: np.ndarray        #: force on the indenter along z (the normal force), N
+    initial: FieldSnapshot
+    final: FieldSnapshot
+    steps: int
+    wall_time: float
+
+    @property
+    def lateral_force(self) -> np.ndarray:
+        """Against the motion positive: -F_x on a pass along +x, +F_x on one back."""
+        return -self.fx * path_direction(self.spec.stroke, self.time)
+
+
+def run_scratch(spec: ParticleScratchSpec, run_dir: Path | str,
+                engine: EngineOptions = EngineOptions(), *,
+                progress: Callable[[int, int], None] | None = None,
+                version: str = "") -> ParticleScratchRun:
+    """Run ``spec`` in ``run_dir`` (or read back the finished run of the same input)."""
+    run_dir = Path(run_dir).resolve()
+    run_dir.mkdir(parents=True, exist_ok=True)
+    name = "in.tlsph"
+    text = scratch_input(spec, version)
+    state_path = run_dir / STATE_FILE
+    state = read_json(state_path, "run state") if state_path.exists() else {}
+    if state.get("finished") and (run_dir / name).exists() \
+            and (run_dir / name).read_text() == text:
+        return read_scratch(spec, run_dir)
+    spec_dict = to_jsonable(spec.to_dict())
+    if state.get("spec") is not None and to_jsonable(state["spec"]) != spec_dict:
+        raise InputError("the run directory holds a run of a different spec; choose another "
+                         f"directory (run directory {run_dir})")
+    for old in [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / FINAL_DUMP,
+                run_dir / "finished.txt"]:
+        old.unlink(missing_ok=True)
+    write_input(run_dir / name, text)
+    state = {"spec": spec_dict, "input": name, "finished": False, "engine": engine.to_dict()}
+    write_json(state_path, state)
+    total = estimated_steps(spec)
+    report = (lambda step: progress(step, total)) if progress is not None else None
+    started = time.perf_counter()
+    run_input(name, run_dir, engine, log_name=f"log.{name}", progress=report)
+    if not (run_dir / "finished.txt").exists():
+        raise LammpsError(f"LAMMPS stopped before the end of the run (no finished.txt); see "
+                          f"log.{name}", run_dir)
+    state.update(finished=True, wall_time=time.perf_counter() - started)
+    write_json(state_path, state)
+    return read_scratch(spec, run_dir)
+
+
+def read_scratch(spec: ParticleScratchSpec, run_dir: Path | str) -> ParticleScratchRun:
+    """The record of a finished run directory, in SI (no LAMMPS)."""
+    run_dir = Path(run_dir).resolve()
+    state = json.loads((run_dir / STATE_FILE).read_text())
+    columns, data = parse_table((run_dir / RECORD).read_text())
+    if columns != COLUMNS:
+        raise LammpsError(f"{RECORD} has columns {columns}, expected {COLUMNS}", run_dir)
+    data = data[np.unique(data[:, 0], return_index=True)[1]]   # a row repeats at run start
+    col = dict(zip(COLUMNS, data.T))
+    dumps = sorted(run_dir.glob("fields.*.dump"), key=lambda p: int(p.stem.split(".")[1]))
+    log = (run_dir / f"log.{state['input']}").read_text(errors="replace")
+    steps = sum(int(ln.split(" for ")[1].split()[0]) for ln in log.splitlines()
+                if ln.startswith("Loop time of"))
+    length, force = ("length", "particle"), ("force", "particle")
+    return ParticleScratchRun(
+        spec=spec, run_dir=run_dir, time=lammps_to_si(col["time"], "time", "particle"),
+        x_tip=lammps_to_si(col["x_tip"], *length), depth=lammps_to_si(col["depth"], *length),
+        fx=lammps_to_si(col["fx"], *force), fz=lammps_to_si(col["fz"], *force),
+        initial=read_snapshot(dumps[0]), final=read_snapshot(run_dir / FINAL_DUMP),
+        steps=steps, wall_time=float(state.get("wall_time", 0.0)))
+
+
+# ---- analysis ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PlasticZone:
+    layer: str
+    width: float     #: m, y extent of the plastic particles in the mid-stroke section
+    depth: float     #: m, below the undeformed surface
+    particles: int
+
+    def to_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class ParticleScratchAnalysis:
+    """The figures of a particle scratch, SI; NaN where a figure cannot be found."""
+
+    friction_mean: float
+    friction_std: float
+    normal_force_mean: float
+    lateral_force_mean: float
+    steady_points: int
+    groove_depth: float
+    groove_width: float
+    pileup_height: float
+    edge_height: float
+    profile_y: np.ndarray
+    profile_h: np.ndarray
+    damage: tuple[PlasticZone, ...]
+    particles: int
+    steps: int
+    wall_time: float
+    plastic_threshold: float = PLASTIC_THRESHOLD
+
+    def to_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        d["profile_y"], d["profile_h"] = self.profile_y.tolist(), self.profile_h.tolist()
+        d["damage"] = [z.to_dict() for z in self.damage]
+        return d
+
+    def summary(self) -> str:
+        lines = [f"friction {self.friction_mean:.4f} +- {self.friction_std:.4f} over "
+                 f"{self.steady_points} points of the steady stroke; normal force "
+                 f"{self.normal_force_mean:.4g} N, lateral force {self.lateral_force_mean:.4g} N",
+                 f"residual groove at mid-stroke: depth {self.groove_depth:.4g} m, width "
+                 f"{self.groove_width:.4g} m, pile-up {self.pileup_height:.4g} m (edge "
+                 f"{self.edge_height:+.3g} m)"]
+        for z in self.damage:
+            lines.append(f"plastic zone (eps_p > {self.plastic_threshold:g}) in {z.layer}: "
+                         f"width {z.width:.4g} m, depth {z.depth:.4g} m ({z.particles} "
+                         "particles)")
+        lines.append(f"{self.particles} particles, {self.steps} steps, {self.wall_time:.1f} s")
+        return "\n".join(lines)
+
+
+def steady_mask(run: ParticleScratchRun) -> np.ndarray:
+    """The recorded points of the first pass with the tip between `STEADY` of its length."""
+    s = run.spec.stroke
+    t1, T, _, _ = s.times
+    L = s.length
+    first = (run.time > t1) & (run.time <= t1 + T)
+    return first & (run.x_tip >= STEADY[0] * L) & (run.x_tip <= STEADY[1] * L)
+
+
+def _section(run: ParticleScratchRun) -> np.ndarray:
+    """The particles (final snapshot order) of the lattice column nearest mid-stroke x."""
+    dx = run.spec.grid.spacing
+    x0 = run.initial.positions[:, 0]
+    x_col = round(0.5 * run.spec.stroke.length / dx) * dx
+    if not np.array_equal(run.initial.ids, run.final.ids):
+        raise LammpsError("the first and final dumps hold different particles", run.run_dir)
+    return np.abs(x0 - x_col) <= 0.25 * dx
+
+
+def groove_profile(run: ParticleScratchRun) -> tuple[np.ndarray, np.ndarray]:
+    """(y, height) of the mid-stroke surface particles, sorted by y, m."""
+    dx = run.spec.grid.spacing
+    top = run.initial.positions[:, 2] > -0.25 * dx
+    sel = _section(run) & top
+    y = run.final.positions[sel, 1]
+    h = run.final.positions[sel, 2] - run.initial.positions[sel, 2]
+    if run.spec.grid.half:
+        off = y > 0.25 * dx
+        y, h = np.concatenate([-y[off], y]), np.concatenate([h[off], h])
+    order = np.argsort(y)
+    return y[order], h[order]
+
+
+def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
+    """Width between the first upward zero crossings either side of index i0."""
+    ends = []
+    for step in (-1, 1):
+        i = i0
+        while 0 <= i + step < len(h) and h[i + step] < 0:
+            i += step
+        j = i + step
+        if not 0 <= j < len(h):
+            return math.nan
+        ends.append(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i]))
+    return float(ends[1] - ends[0])
+
+
+def plastic_zone(run: ParticleScratchRun, threshold: float = PLASTIC_THRESHOLD) -> PlasticZone:
+    sel = _section(run)
+    ep = run.final.plastic_strain
+    hot = sel & (ep > threshold) if ep is not None else np.zeros_like(sel)
+    if not np.any(hot):
+        return PlasticZone("substrate", 0.0, 0.0, 0)
+    y = run.initial.positions[hot, 1]
+    width = 2 * float(np.max(np.abs(y))) if run.spec.grid.half else float(np.ptp(y))
+    return PlasticZone("substrate", width, float(-np.min(run.initial.positions[hot, 2])),
+                       int(hot.sum()))
+
+
+def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
+    """Friction over the steady stroke, the residual groove and the plastic zone (module
+    docstring)."""
+    steady = steady_mask(run)
+    Fn, Fl = run.fz[steady], run.lateral_force[steady]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu = Fl / Fn
+    mu = mu[np.isfinite(mu)]
+    nan = math.nan
+    y, h = groove_profile(run)
+    a = run.spec.contact_radius
+    inside = np.abs(y) <= a
+    depth = width = nan
+    if np.any(inside):
+        i0 = int(np.flatnonzero(inside)[np.argmin(h[inside])])
+        depth = float(-h[i0])
+        width = _crossings(y, h, i0) if h[i0] < 0 else 0.0
+    far = np.abs(y) > 2 * a
+    return ParticleScratchAnalysis(
+        friction_mean=float(mu.mean()) if mu.size else nan,
+        friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
+        normal_force_mean=float(Fn.mean()) if Fn.size else nan,
+        lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
+        steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
+        pileup_height=float(np.max(h)) if h.size else nan,
+        edge_height=float(np.mean(h[far])) if np.any(far) else nan,
+        profile_y=y, profile_h=h, damage=(plastic_zone(run),),
+        particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time)
+
+
+# ---- record -----------------------------------------------------------------------------------
+
+RECORD_FORMAT = "filmscale.md_particle_scratch/1"
+RECORD_NAME = "particle_scratch.h5"
+
+
+def write_scratch_record(run: ParticleScratchRun, analysis: ParticleScratchAnalysis,
+                         provenance: dict | None = None) -> Path:
+    """Write ``particle_scratch.h5`` atomically: ``history`` (time, x_tip, depth, normal and
+    lateral force, SI), ``analysis`` (the figures as attributes, the groove profile and the
+    plastic zone as datasets), ``inputs`` (the LAMMPS input and the spec), provenance as root
+    attributes."""
+    from filmscale.core.files import atomic_h5
+    from filmscale.core.provenance import provenance as base_provenance
+    from filmscale.md.engine import lammps_info
+
+    path = run.run_dir / RECORD_NAME
+    state = json.loads((run.run_dir / STATE_FILE).read_text())
+    info = base_provenance(**{**lammps_info(), "engine": json.dumps(state.get("engine", {})),
+                              **(provenance or {})})
+    with atomic_h5(path) as f:
+        f.attrs["format"] = RECORD_FORMAT
+        f.attrs["kind"] = "scratch"
+        f.attrs["method"] = run.spec.method
+        for key, value in info.items():
+            f.attrs[key] = value
+        hist = f.create_group("history")
+        for name, values, unit in (("time", run.time, "s"), ("x_tip", run.x_tip, "m"),
+                                   ("depth", run.depth, "m"), ("normal_force", run.fz, "N"),
+                                   ("lateral_force", run.lateral_force, "N")):
+            hist[name] = values
+            hist[name].attrs["units"] = unit
+        res = f.create_group("analysis")
+        d = analysis.to_dict()
+        for key in (*JSON_KEYS, "particles", "steps", "wall_time", "plastic_threshold"):
+            res.attrs[key] = d[key]
+        res["profile_y"], res["profile_h"] = analysis.profile_y, analysis.profile_h
+        res.attrs["damage"] = json.dumps(d["damage"])
+        inputs = f.create_group("inputs")
+        inputs[state["input"]] = (run.run_dir / state["input"]).read_text()
+        inputs["spec.json"] = json.dumps(to_jsonable(run.spec.to_dict()))
+    return path

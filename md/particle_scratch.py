@@ -192,7 +192,9 @@ class ParticleScratchSpec:
         tip = parse_tip(self.tip)
         if not isinstance(tip, Sphere):
             raise InputError(f"tip = {tip.spec!r}: the particle scratch takes a sphere "
-                             "(sphere:R)")
+                             "(sphere:R); LAMMPS's fix indent cone pushes particles away from "
+                             "its mid-axis point, not along its flank, so a scratching cone's "
+                             "lateral force would not be ploughing (docs/particles.md)")
         object.__setattr__(self, "tip", tip)
         if self.method != "tlsph":
             raise InputError(f"method = {shown(self.method)}: the particle scratch runs "

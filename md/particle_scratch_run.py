@@ -42,6 +42,7 @@ from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_inp
 from filmscale.md.lammps_input import write_input
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.particle_run import FieldSnapshot, read_snapshot
+from filmscale.md.scratch_run import groove_edges
 from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            estimated_steps, path_direction, scratch_input)
 
@@ -221,20 +222,6 @@ def groove_profile(run: ParticleScratchRun) -> tuple[np.ndarray, np.ndarray]:
     return y[order], h[order]
 
 
-def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
-    """Width between the first upward zero crossings either side of index i0."""
-    ends = []
-    for step in (-1, 1):
-        i = i0
-        while 0 <= i + step < len(h) and h[i + step] < 0:
-            i += step
-        j = i + step
-        if not 0 <= j < len(h):
-            return math.nan
-        ends.append(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i]))
-    return float(ends[1] - ends[0])
-
-
 def plastic_zone(run: ParticleScratchRun, threshold: float = PLASTIC_THRESHOLD) -> PlasticZone:
     sel = _section(run)
     ep = run.final.plastic_strain
@@ -263,7 +250,8 @@ def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
     if np.any(inside):
         i0 = int(np.flatnonzero(inside)[np.argmin(h[inside])])
         depth = float(-h[i0])
-        width = _crossings(y, h, i0) if h[i0] < 0 else 0.0
+        left, right = groove_edges(y, h, i0)
+        width = right - left if h[i0] < 0 else 0.0
     far = np.abs(y) > 2 * a
     return ParticleScratchAnalysis(
         friction_mean=float(mu.mean()) if mu.size else nan,

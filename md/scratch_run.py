@@ -279,8 +279,11 @@ def groove_profile(run: ScratchRun) -> tuple[np.ndarray, np.ndarray, float]:
     return centres, h, float(np.nanmean(h[far])) if np.any(far) else math.nan
 
 
-def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
-    """Width between the first upward zero crossings either side of index i0."""
+def groove_edges(y: np.ndarray, h: np.ndarray, i0: int) -> tuple[float, float]:
+    """The y either side of index ``i0`` (the groove's lowest point) where the profile h(y)
+    (sorted in y) first rises through zero, interpolated linearly; NaN on a side that never
+    rises within the profile. The groove width is their difference (`scratch_run`,
+    `particle_scratch_run` and the scratch figure measure it so)."""
     ends = []
     for step in (-1, 1):
         i = i0
@@ -288,9 +291,15 @@ def _crossings(y: np.ndarray, h: np.ndarray, i0: int) -> float:
             i += step
         j = i + step
         if not 0 <= j < len(h) or not np.isfinite(h[j]):
-            return math.nan
-        ends.append(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i]))
-    return float(ends[1] - ends[0])
+            ends.append(math.nan)
+            continue
+        ends.append(float(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i])))
+    return ends[0], ends[1]
+
+
+def _width(y: np.ndarray, h: np.ndarray, i0: int) -> float:
+    left, right = groove_edges(y, h, i0)
+    return right - left
 
 
 def scratch_damage(run: ScratchRun, threshold: float = THRESHOLD
@@ -329,7 +338,7 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
     if np.any(inside & np.isfinite(h)):
         i0 = int(np.flatnonzero(inside)[np.nanargmin(h[inside])])
         depth = float(-h[i0])
-        width = _crossings(y, h, i0) if h[i0] < 0 else 0.0
+        width = _width(y, h, i0) if h[i0] < 0 else 0.0
     return ScratchAnalysis(
         friction_mean=float(mu.mean()) if mu.size else nan,
         friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,

@@ -85,23 +85,13 @@ class ScratchFigureData:
 
 def groove_edges(y: np.ndarray, h: np.ndarray, contact_radius: float) -> tuple[float, float]:
     """The y either side of the groove's lowest point (within ``contact_radius`` of the axis)
-    where the profile first rises through zero, interpolated as `scratch_run` measures the
-    groove width; NaN where there is none."""
+    where the profile first rises through zero, as `scratch_run` measures the groove width;
+    NaN where there is none."""
+    from filmscale.md.scratch_run import groove_edges as edges_from
     inside = (np.abs(y) <= contact_radius) & np.isfinite(h)
     if not np.any(inside) or np.nanmin(h[inside]) >= 0:
         return math.nan, math.nan
-    i0 = int(np.flatnonzero(inside)[np.argmin(h[inside])])
-    ends = []
-    for step in (-1, 1):
-        i = i0
-        while 0 <= i + step < len(h) and h[i + step] < 0:
-            i += step
-        j = i + step
-        if not 0 <= j < len(h) or not np.isfinite(h[j]):
-            ends.append(math.nan)
-            continue
-        ends.append(float(y[i] + (y[j] - y[i]) * (0 - h[i]) / (h[j] - h[i])))
-    return ends[0], ends[1]
+    return edges_from(y, h, int(np.flatnonzero(inside)[np.argmin(h[inside])]))
 
 
 def _minimum_image(d: np.ndarray, period: float) -> np.ndarray:

@@ -95,35 +95,30 @@ def _resume_part(spec: IndentSpec, run_dir: Path, k: int, step: int, restart: Pa
             "seeds": derive_seeds(spec.protocol.seed, ("langevin",), part=k)}
 
 
-def run_indentation(spec: IndentSpec, run_dir: Path | str,
-                    engine: EngineOptions = EngineOptions(), *,
-                    progress: Callable[[int, int], None] | None = None) -> IndentRun:
-    """Run ``spec`` in ``run_dir``, or finish it there: a directory holding an interrupted
-    run of the same spec resumes from its newest readable restart file; a finished one is
-    read back without launching LAMMPS. ``progress(step, total)`` reports the timestep.
-    """
-    run_dir = Path(run_dir).resolve()
-    run_dir.mkdir(parents=True, exist_ok=True)
-    (run_dir / "dumps").mkdir(exist_ok=True)
+def run_resumable(run_dir: Path, spec_dict: dict, total: int, fresh: Callable[[], dict],
+                  resume: Callable[[int, int, Path], dict], engine: EngineOptions,
+                  progress: Callable[[int, int], None] | None = None) -> None:
+    """Run the LAMMPS parts of a run directory until it is finished: a new directory starts
+    with ``fresh()`` (the first part's input written, its state dict returned); one holding
+    an interrupted run of the same spec (``spec_dict``, as the state file holds it) resumes
+    from its newest readable restart file with ``resume(k, step, restart)``; a finished one
+    runs nothing. ``progress(step, total)`` reports the timestep. Shared by the indentation
+    and the scratch runs."""
     state_path = run_dir / STATE_FILE
-    spec_dict = _spec_dict(spec)
     state = read_json(state_path, "run state") if state_path.exists() else None
     # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null)
     if state is not None and to_jsonable(state.get("spec")) != spec_dict:
         raise InputError("the run directory holds a run of a different spec; choose another "
                          f"directory (run directory {run_dir})")
-    total = spec.protocol.schedule().s_end
     report = (lambda step: progress(step, total)) if progress is not None else None
-
     while state is None or not state.get("finished"):
         restarts = restart_files(run_dir) if state is not None else []
         if state is None or not restarts or not (run_dir / SURFACE_FILE).exists():
-            state = {"spec": spec_dict, "parts": [_fresh(spec, run_dir)], "finished": False,
+            state = {"spec": spec_dict, "parts": [fresh()], "finished": False,
                      "engine": engine.to_dict()}
         else:
             step, restart = restarts[0]
-            state["parts"].append(_resume_part(spec, run_dir, len(state["parts"]), step,
-                                               restart))
+            state["parts"].append(resume(len(state["parts"]), step, restart))
         write_json(state_path, state)
         part = state["parts"][-1]
         started = time.perf_counter()
@@ -143,6 +138,22 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
         write_json(state_path, state)
         for _, restart in restart_files(run_dir):    # a finished run needs no checkpoints
             restart.unlink()
+
+
+def run_indentation(spec: IndentSpec, run_dir: Path | str,
+                    engine: EngineOptions = EngineOptions(), *,
+                    progress: Callable[[int, int], None] | None = None) -> IndentRun:
+    """Run ``spec`` in ``run_dir``, or finish it there: a directory holding an interrupted
+    run of the same spec resumes from its newest readable restart file; a finished one is
+    read back without launching LAMMPS. ``progress(step, total)`` reports the timestep.
+    """
+    run_dir = Path(run_dir).resolve()
+    run_dir.mkdir(parents=True, exist_ok=True)
+    (run_dir / "dumps").mkdir(exist_ok=True)
+    run_resumable(run_dir, _spec_dict(spec), spec.protocol.schedule().s_end,
+                  lambda: _fresh(spec, run_dir),
+                  lambda k, step, restart: _resume_part(spec, run_dir, k, step, restart),
+                  engine, progress)
     return read_run(spec, run_dir)
 
 

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,16 +46,16 @@ from ase.io import write as ase_write
 
 from filmscale import __version__
 from filmscale.core.errors import InputError
-from filmscale.core.files import atomic_h5, read_json, write_json
+from filmscale.core.files import atomic_h5, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
                                  layer_index, shell_cutoff)
-from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
 from filmscale.md.lammps_input import write_input
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.record import write_attrs, run_provenance
-from filmscale.md.run import STATE_FILE, restart_files
+from filmscale.md.run import STATE_FILE, run_resumable
 from filmscale.md.scratch import (FAR_FIELD, RECORD_COLUMNS, RECORD_FILE, STROKE, ScratchSpec,
                                   dump_name, record_to_si, scratch_input,
                                   scratch_resume_input)
@@ -131,44 +130,14 @@ def _resume_part(spec: ScratchSpec, run_dir: Path, k: int, step: int, restart: P
 def run_scratch(spec: ScratchSpec, run_dir: Path | str,
                 engine: EngineOptions = EngineOptions(), *,
                 progress: Callable[[int, int], None] | None = None) -> ScratchRun:
-    """Run ``spec`` in ``run_dir``, resume it there, or read a finished run back."""
+    """Run ``spec`` in ``run_dir``, resume it there, or read a finished run back
+    (`run.run_resumable`, as an indentation)."""
     run_dir = Path(run_dir).resolve()
     (run_dir / "dumps").mkdir(parents=True, exist_ok=True)
-    state_path = run_dir / STATE_FILE
-    spec_dict = _spec_dict(spec)
-    state = read_json(state_path, "run state") if state_path.exists() else None
-    if state is not None and to_jsonable(state.get("spec")) != spec_dict:
-        raise InputError("the run directory holds a run of a different spec; choose another "
-                         f"directory (run directory {run_dir})")
-    total = spec.schedule().s_end
-    report = (lambda step: progress(step, total)) if progress is not None else None
-    while state is None or not state.get("finished"):
-        restarts = restart_files(run_dir) if state is not None else []
-        if state is None or not restarts or not (run_dir / SURFACE_FILE).exists():
-            state = {"spec": spec_dict, "parts": [_fresh(spec, run_dir)], "finished": False,
-                     "engine": engine.to_dict()}
-        else:
-            step, restart = restarts[0]
-            state["parts"].append(_resume_part(spec, run_dir, len(state["parts"]), step,
-                                               restart))
-        write_json(state_path, state)
-        part = state["parts"][-1]
-        started = time.perf_counter()
-        try:
-            run_input(part["input"], run_dir, engine, log_name=f"log.{part['input']}",
-                      progress=report)
-        except LammpsError as exc:
-            if "restart" in part and "restart" in exc.message.lower():
-                (run_dir / part["restart"]).rename(run_dir / f"{part['restart']}.unreadable")
-                state["parts"].pop()
-                write_json(state_path, state)
-                continue
-            raise
-        part["wall_time"] = time.perf_counter() - started
-        state["finished"] = True
-        write_json(state_path, state)
-        for _, restart in restart_files(run_dir):
-            restart.unlink()
+    run_resumable(run_dir, _spec_dict(spec), spec.schedule().s_end,
+                  lambda: _fresh(spec, run_dir),
+                  lambda k, step, restart: _resume_part(spec, run_dir, k, step, restart),
+                  engine, progress)
     return read_scratch(spec, run_dir)
 
 

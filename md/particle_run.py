@@ -110,27 +110,37 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
     if spec.method == "peri" and engine.mode == "auto":
         engine = replace(engine, mode="mpirun")
     run_dir = Path(run_dir).resolve()
-    run_dir.mkdir(parents=True, exist_ok=True)
     name = f"in.{spec.method}"
-    text = input_text(spec, version)
+    # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null;
+    # an elastic material's sigma_y is infinite)
+    run_particle_input(run_dir, name, input_text(spec, version), to_jsonable(spec.to_dict()),
+                       [*run_dir.glob("fields.*.dump"), run_dir / RECORD],
+                       estimated_steps(spec), engine, progress)
+    return read_particles(spec, run_dir)
+
+
+def run_particle_input(run_dir: Path, name: str, text: str, spec_dict: dict, stale: list[Path],
+                       total: int, engine: EngineOptions,
+                       progress: Callable[[int, int], None] | None = None) -> bool:
+    """Run the particle-model input ``text`` (file ``name``) in ``run_dir`` to its
+    ``finished.txt``, or leave a finished run of the very same input as it is (returns
+    False: nothing ran). A directory holding another spec (``spec_dict``) is refused; the
+    ``stale`` outputs of an unfinished run are removed first. ``progress(step, total)``
+    reports the timestep. Shared by the indentation, impact and scratch runs."""
+    run_dir.mkdir(parents=True, exist_ok=True)
     state_path = run_dir / STATE_FILE
     state = read_json(state_path, "run state") if state_path.exists() else {}
     if state.get("finished") and (run_dir / name).exists() \
             and (run_dir / name).read_text() == text:
-        return read_particles(spec, run_dir)
-    # compared as written: JSON has no NaN or infinity (`to_jsonable` writes them as null;
-    # an elastic material's sigma_y is infinite)
-    spec_dict = to_jsonable(spec.to_dict())
+        return False
     if state.get("spec") is not None and to_jsonable(state["spec"]) != spec_dict:
         raise InputError("the run directory holds a run of a different spec; choose another "
                          f"directory (run directory {run_dir})")
-    for old in [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / "finished.txt"]:
+    for old in [*stale, run_dir / "finished.txt"]:
         old.unlink(missing_ok=True)
     write_input(run_dir / name, text)
-    state = {"spec": spec_dict, "input": name, "finished": False,
-             "engine": engine.to_dict()}
+    state = {"spec": spec_dict, "input": name, "finished": False, "engine": engine.to_dict()}
     write_json(state_path, state)
-    total = estimated_steps(spec)
     report = (lambda step: progress(step, total)) if progress is not None else None
     started = time.perf_counter()
     run_input(name, run_dir, engine, log_name=f"log.{name}", progress=report)
@@ -139,7 +149,7 @@ def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path |
                           f"log.{name}", run_dir)
     state.update(finished=True, wall_time=time.perf_counter() - started)
     write_json(state_path, state)
-    return read_particles(spec, run_dir)
+    return True
 
 
 def read_particles(spec: ParticleIndentSpec | ParticleImpactSpec,

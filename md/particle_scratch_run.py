@@ -28,20 +28,16 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from filmscale.core.errors import InputError
-from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
-from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
-from filmscale.md.lammps_input import write_input
+from filmscale.md.engine import EngineOptions, LammpsError, parse_table
 from filmscale.md.lammps_units import lammps_to_si
-from filmscale.md.particle_run import FieldSnapshot, read_snapshot
+from filmscale.md.particle_run import FieldSnapshot, read_snapshot, run_particle_input
 from filmscale.md.scratch_run import groove_edges
 from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            estimated_steps, path_direction, scratch_input)
@@ -82,33 +78,10 @@ def run_scratch(spec: ParticleScratchSpec, run_dir: Path | str,
                 version: str = "") -> ParticleScratchRun:
     """Run ``spec`` in ``run_dir`` (or read back the finished run of the same input)."""
     run_dir = Path(run_dir).resolve()
-    run_dir.mkdir(parents=True, exist_ok=True)
-    name = "in.tlsph"
-    text = scratch_input(spec, version)
-    state_path = run_dir / STATE_FILE
-    state = read_json(state_path, "run state") if state_path.exists() else {}
-    if state.get("finished") and (run_dir / name).exists() \
-            and (run_dir / name).read_text() == text:
-        return read_scratch(spec, run_dir)
-    spec_dict = to_jsonable(spec.to_dict())
-    if state.get("spec") is not None and to_jsonable(state["spec"]) != spec_dict:
-        raise InputError("the run directory holds a run of a different spec; choose another "
-                         f"directory (run directory {run_dir})")
-    for old in [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / FINAL_DUMP,
-                run_dir / "finished.txt"]:
-        old.unlink(missing_ok=True)
-    write_input(run_dir / name, text)
-    state = {"spec": spec_dict, "input": name, "finished": False, "engine": engine.to_dict()}
-    write_json(state_path, state)
-    total = estimated_steps(spec)
-    report = (lambda step: progress(step, total)) if progress is not None else None
-    started = time.perf_counter()
-    run_input(name, run_dir, engine, log_name=f"log.{name}", progress=report)
-    if not (run_dir / "finished.txt").exists():
-        raise LammpsError(f"LAMMPS stopped before the end of the run (no finished.txt); see "
-                          f"log.{name}", run_dir)
-    state.update(finished=True, wall_time=time.perf_counter() - started)
-    write_json(state_path, state)
+    run_particle_input(run_dir, "in.tlsph", scratch_input(spec, version),
+                       to_jsonable(spec.to_dict()),
+                       [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / FINAL_DUMP],
+                       estimated_steps(spec), engine, progress)
     return read_scratch(spec, run_dir)
 
 

@@ -157,24 +157,30 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
     return read_run(spec, run_dir)
 
 
+def stitched_record(run_dir: Path, parts: list[dict], columns: tuple[str, ...]) -> np.ndarray:
+    """The rows of the ``fix print`` records of a run's parts (each its own file, from its
+    ``start`` step to the next part's), in step order, each step once (fix print repeats a
+    row at the first step of each ``run`` that starts on its interval); LammpsError for a
+    record whose columns are not ``columns``."""
+    rows = []
+    for k, part in enumerate(parts):
+        found, data = parse_table((run_dir / part["record"]).read_text())
+        if found != columns:
+            raise LammpsError(f"{part['record']} has columns {found}, expected {columns}",
+                              run_dir)
+        end = parts[k + 1]["start"] if k + 1 < len(parts) else np.inf
+        rows.append(data[(data[:, 0] > part["start"]) & (data[:, 0] <= end)])
+    data = np.concatenate(rows)
+    data = data[np.argsort(data[:, 0], kind="stable")]
+    return data[np.unique(data[:, 0], return_index=True)[1]]
+
+
 def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
     """The curve and files of a finished run directory (no LAMMPS)."""
     run_dir = check_path("run_dir", run_dir).resolve()
     state = json.loads((run_dir / STATE_FILE).read_text())
     parts = state["parts"]
-    rows = []
-    for k, part in enumerate(parts):
-        columns, data = parse_table((run_dir / part["record"]).read_text())
-        if columns != RECORD_COLUMNS:
-            raise LammpsError(f"{part['record']} has columns {columns}, expected "
-                              f"{RECORD_COLUMNS}", run_dir)
-        step = data[:, 0]
-        end = parts[k + 1]["start"] if k + 1 < len(parts) else np.inf
-        rows.append(data[(step > part["start"]) & (step <= end)])
-    data = np.concatenate(rows)
-    data = data[np.argsort(data[:, 0], kind="stable")]
-    # fix print repeats a row at the first step of each ``run`` that starts on its interval
-    data = data[np.unique(data[:, 0], return_index=True)[1]]
+    data = stitched_record(run_dir, parts, RECORD_COLUMNS)
     schedule = spec.protocol.schedule()
     steps = data[:, 0].astype(int)
     col = {name: data[:, i] for i, name in enumerate(RECORD_COLUMNS)}

@@ -50,12 +50,12 @@ from filmscale.core.files import atomic_h5, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
                                  layer_index, shell_cutoff)
-from filmscale.md.engine import EngineOptions, LammpsError, parse_table
+from filmscale.md.engine import EngineOptions
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
 from filmscale.md.lammps_input import write_input
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.record import write_attrs, run_provenance
-from filmscale.md.run import STATE_FILE, run_resumable
+from filmscale.md.run import STATE_FILE, run_resumable, stitched_record
 from filmscale.md.scratch import (FAR_FIELD, RECORD_COLUMNS, RECORD_FILE, STROKE, ScratchSpec,
                                   dump_name, record_to_si, scratch_input,
                                   scratch_resume_input)
@@ -158,17 +158,7 @@ def read_scratch(spec: ScratchSpec, run_dir: Path | str) -> ScratchRun:
     run_dir = Path(run_dir).resolve()
     state = json.loads((run_dir / STATE_FILE).read_text())
     parts = state["parts"]
-    rows = []
-    for k, part in enumerate(parts):
-        columns, data = parse_table((run_dir / part["record"]).read_text())
-        if columns != RECORD_COLUMNS:
-            raise LammpsError(f"{part['record']} has columns {columns}, expected "
-                              f"{RECORD_COLUMNS}", run_dir)
-        end = parts[k + 1]["start"] if k + 1 < len(parts) else np.inf
-        rows.append(data[(data[:, 0] > part["start"]) & (data[:, 0] <= end)])
-    data = np.concatenate(rows)
-    data = data[np.argsort(data[:, 0], kind="stable")]
-    data = data[np.unique(data[:, 0], return_index=True)[1]]
+    data = stitched_record(run_dir, parts, RECORD_COLUMNS)
     z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
     return ScratchRun(spec=spec, run_dir=run_dir,
                       data=record_to_si({n: data[:, i] for i, n in enumerate(RECORD_COLUMNS)}),

@@ -113,7 +113,7 @@ def plot_slide_map(mp, path=None, title: str = "") -> Figure:
     loads, mus = mp.normal_load, mp.friction
     fu, ff = display_unit(loads, FORCE_UNITS)
     ratio = mp["yield_ratio_max"]
-    fig, axes = new_figure(1, 2, figsize=(11.5, 4.6), squeeze=False)
+    fig, axes = new_figure(1, 2, figsize=(11.5, 5.2), squeeze=False)
     ax = axes[0][0]
     X, Y = np.meshgrid(loads * ff, mus)
     finite = ratio[np.isfinite(ratio)]
@@ -142,7 +142,9 @@ def plot_slide_map(mp, path=None, title: str = "") -> Figure:
     if np.isfinite(load_at).any():
         bx.plot(load_at * ff, mus, color="k", lw=1.5)
         layer_keys.append(Line2D([], [], color="k", lw=1.5, label="first-yield load"))
-    bx.legend(handles=layer_keys, title="largest ratio in", fontsize=8, loc="best")
+    # below the axes: the map fills its axes, a legend inside would hide data
+    bx.legend(handles=layer_keys, title="largest ratio in", fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.16), ncols=min(len(layer_keys), 4), frameon=False)
     for a in (ax, bx):
         if loads.size > 1 and loads[-1] / loads[0] > 3:
             a.set_xscale("log")
@@ -151,6 +153,7 @@ def plot_slide_map(mp, path=None, title: str = "") -> Figure:
         a.set_xlabel(f"normal load P ({fu})")
         a.set_ylabel("friction coefficient μ")
     if keys:
-        ax.legend(handles=keys, fontsize=8, loc="best")
+        ax.legend(handles=keys, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16),
+                  ncols=len(keys), frameon=False)
     fig.suptitle(title or f"first yield of a sliding {mp.kind.split('-')[-1]}", fontsize=10)
     return _done(fig, path)

@@ -6,10 +6,21 @@
 one is read back without LAMMPS). `analyze_scratch` gives the friction and the residual
 groove; `write_scratch_record` the record (``scratch.h5``, SI).
 
+A constant-load scratch (``scratch.normal_load``) first computes the top layer's reduced
+modulus with the potential (`md.elastic`, in ``elastic/`` of the run directory) for the
+gains of its feedback (`md.scratch.load_control`), kept in ``control.json`` for the
+resumed parts and the record; a tip deeper than ``scratch.max_depth`` stops it with a
+`ModelRangeError`.
+
 Friction: over the steady part of the first pass, the middle `STEADY` of its stroke length
 (the indenter's x between 20 % and 80 % of the length from its start), mu_i = F_lat,i /
 F_n,i at every recorded point; ``friction_mean`` and ``friction_std`` are their mean and
-standard deviation, ``normal_force_mean`` and ``lateral_force_mean`` the mean forces there.
+standard deviation, ``normal_force_mean`` and ``lateral_force_mean`` the mean forces there,
+``depth_mean`` and ``depth_std`` the indenter's depth below the undeformed surface (the
+output of a constant-load scratch). ``normal_force_sem`` is the standard error of
+``normal_force_mean`` from `BLOCKS` block means (the force is correlated over many recorded
+points, so the points' own std / sqrt(n) would understate it); ``normal_load`` is the
+target (NaN at constant depth).
 
 Groove: from the atoms after the withdrawal and relaxation, those within `WINDOW` of the
 mid-stroke x are binned in y (`BIN` wide); each bin's surface height is the mean z of its
@@ -45,26 +56,28 @@ import numpy as np
 from ase.io import write as ase_write
 
 from filmscale import __version__
-from filmscale.core.errors import InputError
+from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.files import atomic_h5, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
                                  layer_index, shell_cutoff)
-from filmscale.md.engine import EngineOptions
+from filmscale.md.engine import EngineOptions, LammpsError
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
 from filmscale.md.lammps_input import write_input
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.record import write_attrs, run_provenance
 from filmscale.md.run import STATE_FILE, run_resumable, stitched_record
-from filmscale.md.scratch import (FAR_FIELD, RECORD_COLUMNS, RECORD_FILE, STROKE, ScratchSpec,
-                                  dump_name, record_to_si, scratch_input,
-                                  scratch_resume_input)
+from filmscale.md.scratch import (FAR_FIELD, LOAD_RECORD_COLUMNS, RECORD_COLUMNS, RECORD_FILE,
+                                  STROKE, LoadControl, ScratchSpec, dump_name, load_control,
+                                  record_to_si, scratch_input, scratch_resume_input)
 
 RECORD_FORMAT = "filmscale.md_scratch/1"
 RECORD_NAME = "scratch.h5"
 STEADY = (0.2, 0.8)      #: the steady part of a pass, as fractions of its length
 WINDOW = 5e-10           #: half-width in x of the atoms of the groove profile, m
 BIN = 2e-10              #: width of the profile's bins in y, m
+BLOCKS = 6               #: blocks of the steady part for the standard error of its mean force
+CONTROL_FILE = "control.json"
 
 
 @dataclass(frozen=True)
@@ -80,6 +93,7 @@ class ScratchRun:
     parts: tuple[dict, ...]
     wall_time: float
     engine: dict = field(default_factory=dict)
+    control: dict | None = None   #: the constant-load feedback (`LoadControl.to_dict`)
 
     @property
     def n_atoms(self) -> int:
@@ -106,12 +120,35 @@ def _spec_dict(spec: ScratchSpec) -> dict:
     return to_jsonable(json.loads(json.dumps(spec.to_dict(), default=str)))
 
 
-def _fresh(spec: ScratchSpec, run_dir: Path) -> dict:
+def _control(spec: ScratchSpec, run_dir: Path, engine: EngineOptions) -> LoadControl | None:
+    """The feedback of a constant-load scratch: designed with the top layer's E* (computed,
+    or read back from ``elastic/``) and kept in `CONTROL_FILE`."""
+    if not spec.stroke.load_controlled:
+        return None
+    from filmscale.md.elastic import elastic_constants
+    ind = spec.indent
+    top = (ind.slab.films or (ind.slab.substrate,))[0].crystal
+    elastic = elastic_constants(ind.potential, top, run_dir=run_dir / "elastic", engine=engine)
+    control = load_control(spec, elastic.E_star)
+    write_json(run_dir / CONTROL_FILE, control.to_dict())
+    return control
+
+
+def _saved_control(spec: ScratchSpec, run_dir: Path) -> LoadControl | None:
+    if not spec.stroke.load_controlled:
+        return None
+    saved = json.loads((run_dir / CONTROL_FILE).read_text())
+    return LoadControl(**{k: saved[k] for k in LoadControl.__dataclass_fields__})
+
+
+def _fresh(spec: ScratchSpec, run_dir: Path, engine: EngineOptions) -> dict:
     ind = spec.indent
     ase_write(run_dir / DATA_FILE, ind.slab_built.atoms, format="lammps-data",
               specorder=list(ind.type_elements), masses=True, units="metal",
               atom_style="atomic")
-    write_input(run_dir / "in.scratch", scratch_input(spec, version=__version__))
+    control = _control(spec, run_dir, engine)
+    write_input(run_dir / "in.scratch", scratch_input(spec, version=__version__,
+                                                      control=control))
     write_json(run_dir / "spec.json", _spec_dict(spec))
     seeds = derive_seeds(ind.protocol.seed, ("velocity", "langevin"))
     return {"input": "in.scratch", "record": RECORD_FILE, "start": 0, "seeds": seeds}
@@ -122,7 +159,7 @@ def _resume_part(spec: ScratchSpec, run_dir: Path, k: int, step: int, restart: P
     name, record = f"in.resume.{k}", f"scratch.{k}.dat"
     write_input(run_dir / name, scratch_resume_input(
         spec, restart_file=restart.name, restart_step=step, z_surface=z_surface, part=k,
-        record=record, version=__version__))
+        record=record, version=__version__, control=_saved_control(spec, run_dir)))
     return {"input": name, "record": record, "start": step, "restart": restart.name,
             "seeds": derive_seeds(spec.indent.protocol.seed, ("langevin",), part=k)}
 
@@ -134,10 +171,19 @@ def run_scratch(spec: ScratchSpec, run_dir: Path | str,
     (`run.run_resumable`, as an indentation)."""
     run_dir = Path(run_dir).resolve()
     (run_dir / "dumps").mkdir(parents=True, exist_ok=True)
-    run_resumable(run_dir, _spec_dict(spec), spec.schedule().s_end,
-                  lambda: _fresh(spec, run_dir),
-                  lambda k, step, restart: _resume_part(spec, run_dir, k, step, restart),
-                  engine, progress)
+    try:
+        run_resumable(run_dir, _spec_dict(spec), spec.schedule().s_end,
+                      lambda: _fresh(spec, run_dir, engine),
+                      lambda k, step, restart: _resume_part(spec, run_dir, k, step, restart),
+                      engine, progress)
+    except LammpsError as exc:
+        if "depth_limit" not in exc.message:
+            raise
+        raise ModelRangeError(
+            f"scratch.max_depth = {spec.stroke.max_depth:.4g} m was passed under "
+            f"scratch.normal_load = {spec.stroke.normal_load:.4g} N ({exc.message.strip()}): "
+            f"raise max_depth (and the slab with it) or lower the load; run directory "
+            f"{run_dir}") from None
     return read_scratch(spec, run_dir)
 
 
@@ -158,14 +204,17 @@ def read_scratch(spec: ScratchSpec, run_dir: Path | str) -> ScratchRun:
     run_dir = Path(run_dir).resolve()
     state = json.loads((run_dir / STATE_FILE).read_text())
     parts = state["parts"]
-    data = stitched_record(run_dir, parts, RECORD_COLUMNS)
+    control = _saved_control(spec, run_dir)
+    columns = RECORD_COLUMNS if control is None else LOAD_RECORD_COLUMNS
+    data = stitched_record(run_dir, parts, columns)
     z_surface = float((run_dir / SURFACE_FILE).read_text().split()[0])
     return ScratchRun(spec=spec, run_dir=run_dir,
-                      data=record_to_si({n: data[:, i] for i, n in enumerate(RECORD_COLUMNS)}),
+                      data=record_to_si({n: data[:, i] for i, n in enumerate(columns)}),
                       z_surface=float(lammps_to_si(z_surface, "length")),
                       final_atoms=_read_dump(run_dir / dump_name(spec.schedule().s_end)),
                       parts=tuple(parts), wall_time=sum(p.get("wall_time", 0.0) for p in parts),
-                      engine=state.get("engine", {}))
+                      engine=state.get("engine", {}),
+                      control=None if control is None else control.to_dict())
 
 
 # ---- analysis ---------------------------------------------------------------------------------
@@ -179,6 +228,10 @@ class ScratchAnalysis:
     normal_force_mean: float      #: N
     lateral_force_mean: float     #: N, positive against the motion
     steady_points: int
+    normal_force_sem: float       #: standard error of normal_force_mean (`BLOCKS` blocks), N
+    normal_load: float            #: the constant-load target, N (NaN at constant depth)
+    depth_mean: float             #: the indenter's depth over the steady part, m
+    depth_std: float              #: its standard deviation there, m
     groove_depth: float           #: m, positive below the far field
     groove_width: float           #: m, between the zero crossings either side
     pileup_height: float          #: m, above the far field
@@ -205,6 +258,16 @@ def steady_mask(run: ScratchRun) -> np.ndarray:
     first = (run.data["step"] > s.s_stroke) & (run.data["step"] <= s.s_stroke + s.n_slide)
     L = spec.stroke.length
     return first & (travel >= STEADY[0] * L) & (travel <= STEADY[1] * L)
+
+
+def block_sem(values: np.ndarray, blocks: int = BLOCKS) -> float:
+    """Standard error of the mean of a correlated series: the standard deviation of the means
+    of ``blocks`` consecutive blocks over sqrt(blocks); NaN for fewer than two points a
+    block."""
+    if values.size < 2 * blocks:
+        return math.nan
+    means = [b.mean() for b in np.array_split(values, blocks)]
+    return float(np.std(means, ddof=1) / math.sqrt(blocks))
 
 
 def _top_density(spec: ScratchSpec) -> float:
@@ -286,6 +349,7 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
     the module docstring)."""
     steady = steady_mask(run)
     Fn, Fl = run.normal_force[steady], run.lateral_force[steady]
+    depth = run.data["depth"][steady]
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = Fl / Fn
     mu = mu[np.isfinite(mu)]
@@ -293,17 +357,22 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
     y, h, edge = groove_profile(run)
     damage, eta, cutoff = scratch_damage(run)
     inside = np.abs(y) <= run.spec.contact_radius
-    depth = width = nan
+    groove = width = nan
     if np.any(inside & np.isfinite(h)):
         i0 = int(np.flatnonzero(inside)[np.nanargmin(h[inside])])
-        depth = float(-h[i0])
+        groove = float(-h[i0])
         width = _width(y, h, i0) if h[i0] < 0 else 0.0
+    target = run.spec.stroke.normal_load
     return ScratchAnalysis(
         friction_mean=float(mu.mean()) if mu.size else nan,
         friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
         normal_force_mean=float(Fn.mean()) if Fn.size else nan,
         lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
-        steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
+        steady_points=int(steady.sum()), normal_force_sem=block_sem(Fn),
+        normal_load=nan if target is None else target,
+        depth_mean=float(depth.mean()) if depth.size else nan,
+        depth_std=float(depth.std(ddof=1)) if depth.size > 1 else nan,
+        groove_depth=groove, groove_width=width,
         pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
         damage=damage, eta_mises=eta, damage_cutoff=cutoff)
 
@@ -318,7 +387,9 @@ def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
                          path: Path | str | None = None,
                          provenance: dict | None = None) -> Path:
     """Write ``scratch.h5`` (or ``path``): ``forces`` (time s, step, x_tip, z_tip, depth m,
-    normal_force, lateral_force, fx, fy, fz N, segment), ``analysis`` (figures as attributes,
+    normal_force, lateral_force, fx, fy, fz N, segment; normal_force_target N under load),
+    ``control`` (attributes: ``mode`` depth or load; under load the feedback's target,
+    E*, stiffness, omega, zeta, K_i, K_p in SI), ``analysis`` (figures as attributes,
     the groove profile as datasets; ``analysis/damage``: layer, width, depth m, atoms per
     layer), ``final_atoms`` (id, type, x, y, z m, eta_mises), ``inputs``;
     provenance as root attributes (as the indentation record)."""
@@ -343,6 +414,13 @@ def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
         g["segment"] = s.segment(run.data["step"])
         g["normal_force"], g["lateral_force"] = run.normal_force, run.lateral_force
         g["normal_force"].attrs["units"] = g["lateral_force"].attrs["units"] = "N"
+        if "fn_target" in run.data:
+            g["normal_force_target"] = run.data["fn_target"]
+            g["normal_force_target"].attrs["units"] = "N"
+        c = f.create_group("control")
+        c.attrs["mode"] = "depth" if run.control is None else "load"
+        if run.control is not None:
+            write_attrs(c, run.control)
         a = f.create_group("analysis")
         d = analysis.to_dict()
         a["profile_y"], a["profile_h"] = d.pop("profile_y"), d.pop("profile_h")

@@ -143,7 +143,8 @@ def _scratch_spec(args):
 
 
 #: the figures of `md scratch --json` (SI: N, m; friction a pure number)
-SCRATCH_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_force_mean",
+SCRATCH_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "normal_force_sem",
+                "normal_load", "lateral_force_mean", "depth_mean", "depth_std",
                 "groove_depth", "groove_width", "pileup_height", "edge_height",
                 "steady_points")
 
@@ -152,6 +153,10 @@ def _print_scratch(run, a, record: Path, plot=None) -> None:
     print(f"friction {a.friction_mean:.3f} +- {a.friction_std:.3f} over {a.steady_points} "
           f"points of the steady stroke; normal force {a.normal_force_mean * 1e9:.2f} nN, "
           f"lateral force {a.lateral_force_mean * 1e9:.2f} nN")
+    if run.control is not None:
+        print(f"constant load: target {a.normal_load * 1e9:.2f} nN, measured "
+              f"{a.normal_force_mean * 1e9:.2f} +- {a.normal_force_sem * 1e9:.2f} nN (standard "
+              f"error); depth {a.depth_mean * 1e9:.3f} +- {a.depth_std * 1e9:.3f} nm")
     print(f"residual groove at mid-stroke: depth {a.groove_depth * 1e9:.3f} nm, width "
           f"{a.groove_width * 1e9:.3f} nm, pile-up {a.pileup_height * 1e9:.3f} nm "
           f"(edge of the profile {a.edge_height * 1e9:+.3f} nm)")
@@ -250,11 +255,12 @@ def add_arguments(sub) -> None:
 
     p = msub.add_parser("scratch", help="atomistic nanoscratch with a rigid sphere or cone",
                         description="Run (or resume, with the same --out) an MD scratch at "
-                                    "constant depth, analyse friction and residual groove and "
-                                    "write the HDF5 record.")
+                                    "constant depth or constant load, analyse friction and "
+                                    "residual groove and write the HDF5 record.")
     p.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
-    p.add_argument("--preset", metavar="{ci,quick}",
-                   help="a built-in spec: ci (under a minute on 2 cores) or quick (minutes)")
+    p.add_argument("--preset", metavar="{ci,quick,research}",
+                   help="a built-in spec: ci (under a minute on 2 cores), quick (minutes) or "
+                        "research (sizes for a study, for MPI on many cores)")
     p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")

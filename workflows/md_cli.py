@@ -20,6 +20,7 @@ from filmscale.potentials import registry
 from filmscale.potentials.registry import get_potential, verify_all
 from filmscale.workflows.outputs import (add_force_argument, check_outputs, check_run_folder,
                                          image_kind, plot_path)
+from filmscale.workflows.quantity_args import add_quantity_argument
 
 
 def _indent_spec(args):
@@ -206,6 +207,66 @@ def cmd_md_scratch(args) -> int:
     return 0
 
 
+#: the figures of `md amorphous --json` (SI: kg/m^3, Pa, J, m; fractions and nu plain)
+AMORPHOUS_KEYS = ("density", "sp3_fraction", "sp2_fraction", "sp_fraction", "other_fraction",
+                  "mean_coordination", "bond_cutoff", "E", "nu", "E_std", "nu_std", "K", "G",
+                  "axial_spread", "shear_ratio", "residual_stress", "energy_per_atom")
+
+
+def _amorphous_recipe(args):
+    from filmscale.md.amorphous import amorphous_preset, load_recipe, with_density
+    if (args.spec is None) == (args.preset is None):
+        raise InputError("give a recipe file or --preset NAME (one of them)")
+    recipe = amorphous_preset(args.preset) if args.preset else load_recipe(args.spec)
+    return recipe if args.density is None else with_density(recipe, args.density)
+
+
+def cmd_md_amorphous(args) -> int:
+    """Make (or reuse) the amorphous block of a recipe: a unit of the store ``--out``
+    (default md_runs) named by the hash of the recipe (`workflows.store`)."""
+    from filmscale.md.amorphous_run import (RECORD_NAME, analyze_amorphous,
+                                            read_amorphous_summary, run_amorphous,
+                                            summary_lines, write_amorphous_record)
+    from filmscale.md.engine import EngineOptions
+    from filmscale.workflows.progress import progress_bar, step_callback
+    from filmscale.workflows.store import (done_record, finish_unit, own_folder, unit_dir,
+                                           unit_lock)
+
+    recipe = _amorphous_recipe(args)
+    engine = EngineOptions(np=args.np, omp_threads=args.omp)
+    store = Path(args.out) if args.out else Path("md_runs")
+    if store.exists() and not store.is_dir():
+        raise InputError(f"--out {store} is a file, not a folder")
+    unit = unit_dir(store, "md-amorphous", recipe.to_dict())
+    with unit_lock(unit):
+        reused = done_record(unit) is not None
+        if not reused:
+            total = recipe.schedule().total
+            if not args.json:
+                print(f"{recipe.name}: {recipe.n_atoms} atoms, {total} steps, {args.np} "
+                      f"rank(s); unit {unit}", file=sys.stderr)
+            bar = progress_bar(total, "step", recipe.name)
+            try:
+                run = run_amorphous(recipe, own_folder(unit), engine,
+                                    progress=step_callback(bar, total))
+            finally:
+                bar.close()
+            write_amorphous_record(run, analyze_amorphous(run), provenance=provenance(
+                command="filmscale " + " ".join(sys.argv[1:])))
+            finish_unit(unit, {"kind": "md-amorphous", "wall_time": run.wall_time},
+                        files=(RECORD_NAME,))
+    summary = read_amorphous_summary(unit / RECORD_NAME)
+    if args.json:
+        print(dumps({**{k: summary[k] for k in AMORPHOUS_KEYS}, "n_atoms": summary["n_atoms"],
+                     "wall_time": summary["wall_time"], "reused": reused, "unit": str(unit),
+                     "result": str(unit / RECORD_NAME)}))
+    else:
+        print("\n".join(summary_lines(summary, recipe)))
+        print(f"record: {unit / RECORD_NAME}  ({'reused' if reused else 'made'}, "
+              f"{summary['wall_time']:.1f} s in LAMMPS)")
+    return 0
+
+
 def cmd_potentials(args) -> int:
     if args.action == "list":
         for pot in registry().values():
@@ -270,6 +331,25 @@ def add_arguments(sub) -> None:
                         "residual groove profile and the cross-section of the plastic zone")
     add_force_argument(p)
     p.set_defaults(func=cmd_md_scratch)
+
+    p = msub.add_parser("amorphous", help="an amorphous carbon block by melt-quench",
+                        description="Make (or reuse) an amorphous block: random start at the "
+                                    "target density, liquid, quench and anneal at fixed "
+                                    "volume, then its density, sp3/sp2/sp fractions, radial "
+                                    "distribution, residual stress, energy and elastic "
+                                    "constants, in a unit named by the hash of the recipe.")
+    p.add_argument("spec", nargs="?", metavar="RECIPE.toml", help="melt-quench recipe")
+    p.add_argument("--preset", metavar=PRESET_METAVAR,
+                   help="a built-in recipe: ci (512 atoms, under a minute), quick (4096 "
+                        "atoms, minutes) or research (32768 atoms, for MPI on many cores)")
+    add_quantity_argument(p, "--density", "kg/m^3",
+                          help="target density, e.g. 3.0g/cm3 (default: the recipe's)")
+    p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
+    p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
+    p.add_argument("--out", metavar="DIR", help="the store the unit is kept in (default "
+                                                "md_runs)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    p.set_defaults(func=cmd_md_amorphous)
 
     p = sub.add_parser("potentials", help="the interatomic potentials filmscale knows",
                        description="The interatomic potentials in filmscale's registry: list "

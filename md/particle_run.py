@@ -49,6 +49,7 @@ class FieldSnapshot:
     von_mises: np.ndarray | None
     plastic_strain: np.ndarray | None
     damage: np.ndarray | None
+    types: np.ndarray | None = None     #: particle type (1 the top film of a layered target)
 
 
 def read_snapshot(path: Path | str) -> FieldSnapshot:
@@ -65,7 +66,8 @@ def read_snapshot(path: Path | str) -> FieldSnapshot:
         step=step, ids=col["id"].astype(int), positions=lammps_to_si(xyz, "length", "particle"),
         von_mises=lammps_to_si(col["c_stress[7]"], "pressure", "particle")
         if "c_stress[7]" in col else None,
-        plastic_strain=col.get("c_ep"), damage=col.get("c_damage"))
+        plastic_strain=col.get("c_ep"), damage=col.get("c_damage"),
+        types=col["type"].astype(int) if "type" in col else None)
 
 
 @dataclass(frozen=True)

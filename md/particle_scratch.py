@@ -19,8 +19,12 @@ pass along +x (+F_x on a pass back), so that a force resisting the motion is pos
 The block: a cube lattice of ``grid.spacing`` with its surface z = 0, from x = -width to
 x = length + width along the stroke, y in [-width, width] (``half``: y >= 0 with the mirror
 plane y = 0, the one symmetry a scratch keeps; particles on it carry half a cell and half the
-penalty stiffness, forces are doubled), ``grid.depth`` down to the rigid base. Homogeneous
-targets only (TLSPH bonds one particle type per body; ULSPH layered targets are not built).
+penalty stiffness, forces are doubled), ``grid.depth`` down to the rigid base.
+
+Two particle methods: ``tlsph`` (MACHDYN's total-Lagrangian SPH, one body: homogeneous
+targets) and ``ulsph`` (updated-Lagrangian SPH with ``*CROSS`` pairs, `filmscale.md.ulsph_inputs`:
+films bonded to their substrate, one particle type per layer, top film first). A film takes
+round(t / spacing) lattice planes and must span at least `MIN_FILM_PLANES` of them.
 """
 
 from __future__ import annotations
@@ -40,7 +44,9 @@ from filmscale.md.lammps_units import si_to_lammps
 from filmscale.md.particle_inputs import (CFL, K_FACTOR, TLSPH_KERNEL, lammps_number,
                                           lammps_quantity, smd_preamble, tlsph_material)
 from filmscale.md.particle_spec import target_from_table
+from filmscale.md.particle_inputs import layer_lines
 from filmscale.md.particles import MIN_RADIUS_SPACINGS, ParticleTarget, contact_radius
+from filmscale.md.ulsph_inputs import ULSPH_SETTINGS, ulsph_material
 from filmscale.potentials.lammps_words import check_name, shown
 
 #: The record (``fix print``) and its columns: time (ns), tip x and depth (um), the forces on
@@ -49,6 +55,9 @@ RECORD = "scratch.dat"
 COLUMNS = ("time", "x_tip", "depth", "fx", "fz")
 #: The final field dump (after the relaxation): positions and plastic strain.
 FINAL_DUMP = "final.dump"
+METHODS = ("tlsph", "ulsph")
+#: the fewest lattice planes a film may span (one plane is a skin, not a layer)
+MIN_FILM_PLANES = 2
 
 
 def _length(name: str, value) -> float:
@@ -178,7 +187,8 @@ def path_formulas(stroke: ParticleStroke) -> dict[str, str]:
 
 @dataclass(frozen=True)
 class ParticleScratchSpec:
-    """A particle scratch: a homogeneous target, a sphere, the block and the stroke."""
+    """A particle scratch: the target (homogeneous for ``tlsph``, layered or not for
+    ``ulsph``), a sphere, the block and the stroke."""
 
     name: str
     target: ParticleTarget
@@ -196,12 +206,22 @@ class ParticleScratchSpec:
                              "its mid-axis point, not along its flank, so a scratching cone's "
                              "lateral force would not be ploughing (docs/particles.md)")
         object.__setattr__(self, "tip", tip)
-        if self.method != "tlsph":
-            raise InputError(f"method = {shown(self.method)}: the particle scratch runs "
-                             "'tlsph' (homogeneous targets) only")
-        if self.target.layered:
-            raise InputError("target.films: the particle scratch (TLSPH) takes a homogeneous "
-                             "target; layered scratch (ULSPH) is not built")
+        if self.method not in METHODS:
+            raise InputError(f"method = {shown(self.method)} is not one of {', '.join(METHODS)}")
+        if self.method == "tlsph" and self.target.layered:
+            raise InputError("target.films: TLSPH bonds one body of one material; a layered "
+                             "target needs method = 'ulsph'")
+        for k, (t, _) in enumerate(self.target.films):
+            if round(t / self.grid.spacing) < MIN_FILM_PLANES:
+                raise InputError(f"films[{k}].thickness = {t:g} m spans under "
+                                 f"{MIN_FILM_PLANES} lattice planes of grid.spacing "
+                                 f"{self.grid.spacing:g} m; valid: >= "
+                                 f"{MIN_FILM_PLANES * self.grid.spacing:g} m")
+        films = sum(t for t, _ in self.target.films)
+        if films and self.grid.depth < films + 2 * self.grid.spacing:
+            raise InputError(f"grid.depth = {self.grid.depth:g} m leaves under 2 spacings of "
+                             f"substrate below the films ({films:g} m); valid: >= "
+                             f"{films + 2 * self.grid.spacing:g} m")
         g = self.grid
         object.__setattr__(self, "grid", ScratchGrid(g.spacing, g.width, g.depth, g.half,
                                                      self.stroke.length))
@@ -219,7 +239,7 @@ class ParticleScratchSpec:
             need = 2 * max(a, self.stroke.depth)
             raise InputError(f"grid.depth = {g.depth:g} m is under {need:g} m (twice the "
                              f"contact radius and the depth); valid: >= {need:g} m")
-        c = self.target.substrate.wave_speed
+        c = min(m.wave_speed for m in self.target.materials)
         for key in ("speed", "load_speed"):
             v = getattr(self.stroke, key)
             if v > 0.05 * c:
@@ -239,6 +259,12 @@ class ParticleScratchSpec:
 # ---- spec files and presets -------------------------------------------------------------------
 
 _R = 1e-6
+#: the two-layer target of the quick and research presets: a hard elastic-plastic film on a
+#: softer layer (the chapter 7 case; docs/particles.md, "Layered scratch")
+_HARD_ON_SOFT = {
+    "substrate": {"name": "soft", "E": 70e9, "nu": 0.3, "sigma_y": 1.5e9, "density": 2700.0},
+    "films": [{"name": "hard", "thickness": 0.375 * _R, "E": 200e9, "nu": 0.25,
+               "sigma_y": 10e9, "density": 7800.0}]}
 PRESETS = {
     # elastic Al, the indentation ci preset's material, spacing, depth and speed
     "ci": {"name": "ci-elastic-scratch", "tip": "sphere:1um",
@@ -246,6 +272,18 @@ PRESETS = {
            "grid": {"spacing": _R / 5, "width": 1.2 * _R, "depth": 1.2 * _R},
            "scratch": {"depth": 0.1 * _R, "length": 1.0 * _R, "speed": 100.0,
                        "load_speed": 50.0, "relax_time": 1e-9, "frames": 0}},
+    # the hard film on a softer layer, R/8, 7 215 particles (the measured case)
+    "quick": {"name": "quick-hard-film-scratch", "method": "ulsph", "tip": "sphere:1um",
+              "target": _HARD_ON_SOFT,
+              "grid": {"spacing": _R / 8, "width": 1.75 * _R, "depth": 1.5 * _R},
+              "scratch": {"depth": 0.15 * _R, "length": 1.0 * _R, "speed": 100.0,
+                          "load_speed": 50.0, "relax_time": 1e-9, "frames": 2}},
+    # the same at R/16 on a wider, deeper block and a longer stroke, for MPI on many cores
+    "research": {"name": "research-hard-film-scratch", "method": "ulsph",
+                 "tip": "sphere:1um", "target": _HARD_ON_SOFT,
+                 "grid": {"spacing": _R / 16, "width": 2.5 * _R, "depth": 2.5 * _R},
+                 "scratch": {"depth": 0.15 * _R, "length": 2.0 * _R, "speed": 100.0,
+                             "load_speed": 50.0, "relax_time": 2e-9, "frames": 10}},
 }
 
 
@@ -283,13 +321,64 @@ def preset(name: str) -> ParticleScratchSpec:
 # ---- the LAMMPS input -------------------------------------------------------------------------
 
 def estimated_steps(spec: ParticleScratchSpec) -> int:
-    """The CFL step count of the run (`particle_inputs.estimated_timestep`'s TLSPH step)."""
-    dt = CFL * TLSPH_KERNEL * spec.grid.spacing / spec.target.substrate.wave_speed
+    """The CFL step count of the run (`particle_inputs.estimated_timestep`'s SPH step, on the
+    stiffest material)."""
+    c = max(m.wave_speed for m in spec.target.materials)
+    kernel = TLSPH_KERNEL if spec.method == "tlsph" else ULSPH_SETTINGS.kernel
+    dt = CFL * kernel * spec.grid.spacing / c
     return max(1, math.ceil(spec.stroke.times[3] / dt))
 
 
+def _material_lines(spec: ParticleScratchSpec, dx: float) -> list[str]:
+    """The particle types, masses, kernels, pair style and time integration of the method."""
+    n = lammps_number
+    if spec.method == "tlsph":
+        return [
+            f"set group all smd/mass/density "
+            f"{lammps_quantity(spec.target.substrate.density, 'density')}",
+            f"set group all diameter {n(TLSPH_KERNEL * dx)}",
+            f"set group all smd/contact/radius {n(0.5 * dx)}",
+            "group tlsph type 1    # the name MACHDYN requires",
+            "",
+            "# ---- material (SI values converted to um, GPa, ns)",
+            "pair_style smd/tlsph",
+            f"pair_coeff 1 1 {tlsph_material(spec.target.substrate)}",
+        ]
+    mats, u = spec.target.materials, ULSPH_SETTINGS
+    lines = [f"set type {k} smd/mass/density {lammps_quantity(m.density, 'density')}"
+             for k, m in enumerate(mats, start=1)]
+    lines += [
+        f"set group all diameter {n(u.kernel * dx)}",
+        f"set group all smd/contact/radius {n(0.5 * dx)}",
+        "",
+        "# ---- materials (SI values converted to um, GPa, ns); *CROSS bonds the layers",
+        f"pair_style smd/ulsph *DENSITY_{u.density.upper()} *VELOCITY_GRADIENT "
+        f"*{'' if u.gradient_correction else 'NO_'}GRADIENT_CORRECTION",
+        *(f"pair_coeff {k} {k} {ulsph_material(m, u)}" for k, m in enumerate(mats, start=1)),
+        *(f"pair_coeff {i} {j} *CROSS" for i in range(1, len(mats) + 1)
+          for j in range(i + 1, len(mats) + 1)),
+    ]
+    return lines
+
+
+def _roller_lines(g: ScratchGrid, dx: float) -> list[str]:
+    """Zero normal velocity on the block's sides (ULSPH: a free side face, its kernel
+    truncated, flows plastically on its own)."""
+    i_lo, i_hi, j, j_lo, _ = g.lattice_bounds()
+    n = lammps_number
+    lines = [f"region x_ends block {n((-i_lo + 0.5) * dx)} {n((i_hi - 0.5) * dx)} INF INF INF INF "
+             "side out units box",
+             "group x_ends region x_ends",
+             "fix roll_x x_ends smd/setvel 0 NULL NULL",
+             f"region y_far block INF INF {n((j_lo + 0.5) * dx if not g.half else -1e9)} "
+             f"{n((j - 0.5) * dx)} INF INF side out units box",
+             "group y_far region y_far",
+             "fix roll_y y_far smd/setvel NULL 0 NULL"]
+    return lines
+
+
 def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
-    """The complete TLSPH input of ``spec`` (particle units)."""
+    """The complete TLSPH or ULSPH input of ``spec`` (particle units)."""
     g, s = spec.grid, spec.stroke
     dx = si_to_lammps(g.spacing, "length", "particle")
     i_lo, i_hi, j, j_lo, k = g.lattice_bounds()
@@ -297,8 +386,8 @@ def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
     lo = (-i_lo - 0.5) * dx, (j_lo - 0.5) * dx, (-k - 0.5) * dx
     hi = (i_hi + 0.5) * dx, (j + 0.5) * dx, 0.5 * dx
     R = si_to_lammps(spec.tip.R, "length", "particle")
-    mat = spec.target.substrate
-    E_star = si_to_lammps(mat.material.plane_strain_modulus, "pressure", "particle")
+    E_star = max(si_to_lammps(m.material.plane_strain_modulus, "pressure", "particle")
+                 for m in spec.target.materials)
     K = K_FACTOR * E_star
     vol = dx**3
     steps = estimated_steps(spec)
@@ -306,6 +395,8 @@ def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
     f = path_formulas(s)
     end = si_to_lammps(s.times[3], "time", "particle")
     half = ("(half model: mirror plane y = 0)" if g.half else "(full block)")
+    n_types = len(spec.target.materials)
+    integrated = "tlsph" if spec.method == "tlsph" else "target"   # the group MACHDYN needs
     lines = [
         *smd_preamble(spec, version, dx),
         f"# ---- block {half}: x from {-i_lo} to {i_hi}, y from {j_lo} to {j}, z from {-k} to 0 "
@@ -315,9 +406,10 @@ def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
         f"{n(hi[2])} units box",
         f"region world block {n(lo[0])} {n(hi[0])} {n(lo[1])} {n(hi[1])} {n(lo[2])} "
         f"{n(R + 2 * dx)} units box",
-        "create_box 1 world",
-        "create_atoms 1 region block",
-        "group target type 1",
+        f"create_box {n_types} world",
+        f"create_atoms {n_types} region block",
+        *layer_lines(spec, dx),
+        "group target union all",
         "set group target mol 1",
     ]
     if g.half:
@@ -330,14 +422,7 @@ def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
     lines += [
         f"set group all volume {n(vol)}",
         f"set group plane volume {n(vol / 2)}",
-        f"set group all smd/mass/density {lammps_quantity(mat.density, 'density')}",
-        f"set group all diameter {n(TLSPH_KERNEL * dx)}",
-        f"set group all smd/contact/radius {n(0.5 * dx)}",
-        "group tlsph type 1    # the name MACHDYN requires",
-        "",
-        "# ---- material (SI values converted to um, GPa, ns)",
-        "pair_style smd/tlsph",
-        f"pair_coeff 1 1 {tlsph_material(mat)}",
+        *_material_lines(spec, dx),
         "",
         "# ---- rigid base; mirror plane y = 0 (normal velocity zero)",
         f"region base block INF INF INF INF INF {n(-k * dx + 0.5 * dx)} units box",
@@ -346,10 +431,11 @@ def scratch_input(spec: ParticleScratchSpec, version: str = "") -> str:
         "fix base base smd/setvel 0 0 0",
         *(["group sym_y intersect on_y target", "fix sym_y sym_y smd/setvel NULL 0 NULL"]
           if g.half else []),
+        *(_roller_lines(g, dx) if spec.method == "ulsph" else []),
         f"fix dtfix all smd/adjust_dt {CFL}",
-        "fix integration tlsph smd/integrate_tlsph",
+        f"fix integration {integrated} smd/integrate_{spec.method}",
         "variable t equal f_dtfix    # simulated time (the timestep adapts)",
-        "compute stress all smd/tlsph/stress",
+        f"compute stress all smd/{spec.method}/stress",
         "compute ep all smd/plastic/strain",
         "",
         "# ---- the indenter path: closed-form functions of the simulated time",

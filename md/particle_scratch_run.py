@@ -18,10 +18,11 @@ profile first rises through zero (linear interpolation; 0 when no height is belo
 ``pileup_height`` the highest height, ``edge_height`` the mean height of the particles
 farther than twice the contact radius from the axis.
 
-Plastic zone: the particles of that mid-stroke cross-section whose TLSPH equivalent plastic
-strain (``smd/plastic/strain``) exceeds `PLASTIC_THRESHOLD`: its ``width`` (y extent, both
-sides) and ``depth`` (below the undeformed surface), per layer (TLSPH targets are homogeneous:
-one layer, ``substrate``); 0 and 0 where no particle yielded.
+Plastic zone, per layer: the particles of that mid-stroke cross-section whose equivalent
+plastic strain (``smd/plastic/strain``) exceeds `PLASTIC_THRESHOLD`: its ``width`` (y extent,
+both sides) and ``depth`` (below the undeformed surface) in each layer (a particle's layer is
+its type: films top first, then the substrate; a layer is named by its material's ``name``,
+else ``film1``, ``film2``, ..., ``substrate``); 0 and 0 where no particle of a layer yielded.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ from filmscale.core.jsonable import to_jsonable
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.particle_run import FieldSnapshot, read_snapshot, run_particle_input
-from filmscale.md.scratch_run import groove_edges
+from filmscale.md.scratch_run import groove_edges, scratch_hardness
 from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            estimated_steps, path_direction, scratch_input)
 
@@ -47,7 +48,8 @@ STEADY = (0.2, 0.8)           #: the steady part of a pass, fractions of its len
 PLASTIC_THRESHOLD = 1e-3      #: equivalent plastic strain that marks the plastic zone
 #: the figures of `particles scratch --json` (SI), those of `md scratch --json`
 JSON_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_force_mean",
-             "groove_depth", "groove_width", "pileup_height", "edge_height", "steady_points")
+             "groove_depth", "groove_width", "pileup_height", "edge_height",
+             "scratch_hardness", "steady_points")
 
 
 @dataclass(frozen=True)
@@ -78,7 +80,7 @@ def run_scratch(spec: ParticleScratchSpec, run_dir: Path | str,
                 version: str = "") -> ParticleScratchRun:
     """Run ``spec`` in ``run_dir`` (or read back the finished run of the same input)."""
     run_dir = Path(run_dir).resolve()
-    run_particle_input(run_dir, "in.tlsph", scratch_input(spec, version),
+    run_particle_input(run_dir, f"in.{spec.method}", scratch_input(spec, version),
                        to_jsonable(spec.to_dict()),
                        [*run_dir.glob("fields.*.dump"), run_dir / RECORD, run_dir / FINAL_DUMP],
                        estimated_steps(spec), engine, progress)
@@ -140,6 +142,7 @@ class ParticleScratchAnalysis:
     steps: int
     wall_time: float
     plastic_threshold: float = PLASTIC_THRESHOLD
+    scratch_hardness: float = math.nan     #: 8 F_n / (pi w^2), Pa (`scratch_hardness`)
 
     def to_dict(self) -> dict:
         d = {k: getattr(self, k) for k in self.__dataclass_fields__}
@@ -158,6 +161,8 @@ class ParticleScratchAnalysis:
             lines.append(f"plastic zone (eps_p > {self.plastic_threshold:g}) in {z.layer}: "
                          f"width {z.width:.4g} m, depth {z.depth:.4g} m ({z.particles} "
                          "particles)")
+        if math.isfinite(self.scratch_hardness):
+            lines.append(f"scratch hardness 8 F_n / (pi w^2): {self.scratch_hardness:.4g} Pa")
         lines.append(f"{self.particles} particles, {self.steps} steps, {self.wall_time:.1f} s")
         return "\n".join(lines)
 
@@ -171,7 +176,7 @@ def steady_mask(run: ParticleScratchRun) -> np.ndarray:
     return first & (run.x_tip >= STEADY[0] * L) & (run.x_tip <= STEADY[1] * L)
 
 
-def _section(run: ParticleScratchRun) -> np.ndarray:
+def mid_section(run: ParticleScratchRun) -> np.ndarray:
     """The particles (final snapshot order) of the lattice column nearest mid-stroke x."""
     dx = run.spec.grid.spacing
     x0 = run.initial.positions[:, 0]
@@ -185,7 +190,7 @@ def groove_profile(run: ParticleScratchRun) -> tuple[np.ndarray, np.ndarray]:
     """(y, height) of the mid-stroke surface particles, sorted by y, m."""
     dx = run.spec.grid.spacing
     top = run.initial.positions[:, 2] > -0.25 * dx
-    sel = _section(run) & top
+    sel = mid_section(run) & top
     y = run.final.positions[sel, 1]
     h = run.final.positions[sel, 2] - run.initial.positions[sel, 2]
     if run.spec.grid.half:
@@ -195,16 +200,33 @@ def groove_profile(run: ParticleScratchRun) -> tuple[np.ndarray, np.ndarray]:
     return y[order], h[order]
 
 
-def plastic_zone(run: ParticleScratchRun, threshold: float = PLASTIC_THRESHOLD) -> PlasticZone:
-    sel = _section(run)
+def layer_names(spec: ParticleScratchSpec) -> tuple[str, ...]:
+    """The layers' names, top film first (their particle types are 1, 2, ...)."""
+    films = [m.material.name for _, m in spec.target.films]
+    names = [name if name and not name.startswith("target.") else f"film{k}"
+             for k, name in enumerate(films, start=1)]
+    sub = spec.target.substrate.material.name
+    return (*names, sub if sub and not sub.startswith("target.") else "substrate")
+
+
+def plastic_zones(run: ParticleScratchRun,
+                  threshold: float = PLASTIC_THRESHOLD) -> tuple[PlasticZone, ...]:
+    """The plastic zone of each layer in the mid-stroke section (module docstring)."""
+    sel = mid_section(run)
     ep = run.final.plastic_strain
     hot = sel & (ep > threshold) if ep is not None else np.zeros_like(sel)
-    if not np.any(hot):
-        return PlasticZone("substrate", 0.0, 0.0, 0)
-    y = run.initial.positions[hot, 1]
-    width = 2 * float(np.max(np.abs(y))) if run.spec.grid.half else float(np.ptp(y))
-    return PlasticZone("substrate", width, float(-np.min(run.initial.positions[hot, 2])),
-                       int(hot.sum()))
+    types = run.final.types if run.final.types is not None else np.ones(sel.size, dtype=int)
+    zones = []
+    for k, name in enumerate(layer_names(run.spec), start=1):
+        mine = hot & (types == k)
+        if not np.any(mine):
+            zones.append(PlasticZone(name, 0.0, 0.0, 0))
+            continue
+        y = run.initial.positions[mine, 1]
+        width = 2 * float(np.max(np.abs(y))) if run.spec.grid.half else float(np.ptp(y))
+        zones.append(PlasticZone(name, width, float(-np.min(run.initial.positions[mine, 2])),
+                                 int(mine.sum())))
+    return tuple(zones)
 
 
 def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
@@ -226,16 +248,20 @@ def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
         left, right = groove_edges(y, h, i0)
         width = right - left if h[i0] < 0 else 0.0
     far = np.abs(y) > 2 * a
+    zones = plastic_zones(run)
+    Fn_mean = float(Fn.mean()) if Fn.size else nan
     return ParticleScratchAnalysis(
         friction_mean=float(mu.mean()) if mu.size else nan,
         friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
-        normal_force_mean=float(Fn.mean()) if Fn.size else nan,
+        normal_force_mean=Fn_mean,
         lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
         steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
         pileup_height=float(np.max(h)) if h.size else nan,
         edge_height=float(np.mean(h[far])) if np.any(far) else nan,
-        profile_y=y, profile_h=h, damage=(plastic_zone(run),),
-        particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time)
+        profile_y=y, profile_h=h, damage=zones,
+        particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time,
+        scratch_hardness=scratch_hardness(Fn_mean, width, depth > 0 and
+                                          any(z.particles for z in zones)))
 
 
 # ---- record -----------------------------------------------------------------------------------

@@ -239,6 +239,7 @@ class ScratchAnalysis:
     profile_y: np.ndarray         #: bin centres, m from the groove axis
     profile_h: np.ndarray         #: surface height relative to the far field, m
     damage: tuple[LayerDamage, ...] = ()   #: per layer, top film first (SI)
+    scratch_hardness: float = math.nan     #: 8 F_n / (pi w^2), Pa (`scratch_hardness`)
     eta_mises: np.ndarray | None = None    #: per final atom (the order of ``final_atoms``)
     damage_threshold: float = THRESHOLD
     damage_cutoff: float = math.nan        #: neighbour cutoff of eta_Mises, m
@@ -319,6 +320,16 @@ def groove_edges(y: np.ndarray, h: np.ndarray, i0: int) -> tuple[float, float]:
     return ends[0], ends[1]
 
 
+def scratch_hardness(normal_force: float, groove_width: float, plastic: bool) -> float:
+    """The scratch hardness 8 F_n / (pi w^2), Pa (Williams 1996; ASTM G171 for a spherical
+    stylus): the normal force over the front half of a contact as wide as the residual
+    groove. NaN unless the groove is plastic (``plastic``: damaged atoms or plastic particles
+    under it) and has a width."""
+    if not plastic or not np.isfinite(groove_width) or groove_width <= 0:
+        return math.nan
+    return 8 * normal_force / (math.pi * groove_width**2)
+
+
 def _width(y: np.ndarray, h: np.ndarray, i0: int) -> float:
     left, right = groove_edges(y, h, i0)
     return right - left
@@ -363,10 +374,11 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
         groove = float(-h[i0])
         width = _width(y, h, i0) if h[i0] < 0 else 0.0
     target = run.spec.stroke.normal_load
+    Fn_mean = float(Fn.mean()) if Fn.size else nan
     return ScratchAnalysis(
         friction_mean=float(mu.mean()) if mu.size else nan,
         friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
-        normal_force_mean=float(Fn.mean()) if Fn.size else nan,
+        normal_force_mean=Fn_mean,
         lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
         steady_points=int(steady.sum()), normal_force_sem=block_sem(Fn),
         normal_load=nan if target is None else target,
@@ -374,7 +386,9 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
         depth_std=float(depth.std(ddof=1)) if depth.size > 1 else nan,
         groove_depth=groove, groove_width=width,
         pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
-        damage=damage, eta_mises=eta, damage_cutoff=cutoff)
+        damage=damage, eta_mises=eta, damage_cutoff=cutoff,
+        scratch_hardness=scratch_hardness(Fn_mean, width, groove > 0 and
+                                          any(d.atoms for d in damage)))
 
 
 def stroke_mask(run: ScratchRun) -> np.ndarray:

@@ -147,7 +147,7 @@ def _scratch_spec(args):
 SCRATCH_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "normal_force_sem",
                 "normal_load", "lateral_force_mean", "depth_mean", "depth_std",
                 "groove_depth", "groove_width", "pileup_height", "edge_height",
-                "steady_points")
+                "scratch_hardness", "steady_points")
 
 
 def _print_scratch(run, a, record: Path, plot=None) -> None:
@@ -161,6 +161,8 @@ def _print_scratch(run, a, record: Path, plot=None) -> None:
     print(f"residual groove at mid-stroke: depth {a.groove_depth * 1e9:.3f} nm, width "
           f"{a.groove_width * 1e9:.3f} nm, pile-up {a.pileup_height * 1e9:.3f} nm "
           f"(edge of the profile {a.edge_height * 1e9:+.3f} nm)")
+    if math.isfinite(a.scratch_hardness):
+        print(f"scratch hardness 8 F_n / (pi w^2): {a.scratch_hardness / 1e9:.3f} GPa")
     for d in a.damage:
         print(f"damage (eta_Mises > {a.damage_threshold:g}) in {d.layer}: width "
               f"{d.width * 1e9:.3f} nm, depth {d.depth * 1e9:.3f} nm ({d.atoms} atoms)")

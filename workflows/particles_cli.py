@@ -14,7 +14,8 @@ from filmscale.core.errors import InputError
 from filmscale.core.jsonable import dumps
 from filmscale.core.provenance import provenance
 from filmscale.workflows.md_cli import PRESET_METAVAR
-from filmscale.workflows.outputs import add_force_argument, check_run_folder
+from filmscale.workflows.outputs import (add_force_argument, check_outputs, check_run_folder,
+                                         image_kind, plot_path)
 
 
 def _spec(args):
@@ -77,8 +78,10 @@ def cmd_particles_scratch(args) -> int:
     spec = preset(args.preset) if args.preset else load_spec(args.spec)
     engine = EngineOptions(np=args.np, omp_threads=1)
     out = Path(args.out) if args.out else run_dir_for("md_runs", f"particles-{spec.name}")
-    check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
-                     args.force)
+    inputs = [("the run specification", args.spec)] if args.spec else []
+    check_run_folder("--out", out, inputs, args.force)
+    plot_path("--plot", args.plot)
+    check_outputs(inputs, [("--plot", args.plot, image_kind(args.plot))], args.force)
     total = estimated_steps(spec)
     if not args.json:
         print(f"{spec.name}: {spec.method} scratch, {spec.grid.n_particles} particles, about "
@@ -91,14 +94,20 @@ def cmd_particles_scratch(args) -> int:
     analysis = analyze_scratch(run)
     record = write_scratch_record(run, analysis, provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
+    if args.plot:
+        from filmscale.workflows.scratch_plots import particle_scratch_figure_data, plot_scratch
+        plot_scratch(particle_scratch_figure_data(run, analysis), args.plot)
     if args.json:
         figures = {k: getattr(analysis, k) for k in JSON_KEYS}
         figures["damage"] = [{"layer": z.layer, "width": z.width, "depth": z.depth}
                              for z in analysis.damage]
         print(dumps({**figures, "particles": analysis.particles, "steps": analysis.steps,
-                     "wall_time": analysis.wall_time, "result": str(record)}))
+                     "wall_time": analysis.wall_time, "result": str(record),
+                     "plot": args.plot}))
     else:
         print(analysis.summary())
+        if args.plot:
+            print(f"plot: {args.plot}")
         print(f"record: {record}")
     return 0
 
@@ -127,16 +136,23 @@ def add_arguments(sub) -> None:
         q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
         add_force_argument(q)
         q.set_defaults(func=cmd_particles, kind=kind)
-    q = psub.add_parser("scratch", help="scratch with a rigid sphere (TLSPH, homogeneous)",
+    q = psub.add_parser("scratch", help="scratch with a rigid sphere (TLSPH homogeneous, "
+                                        "ULSPH layered)",
                         description="Run a particle-model scratch (down, a stroke along x, up, "
                                     "relax), analyse friction and the residual groove and "
                                     "write the HDF5 record (particle_scratch.h5).")
     q.add_argument("spec", nargs="?", metavar="SPEC.toml", help="run specification")
-    q.add_argument("--preset", metavar="ci", help="a built-in spec instead of a spec file: ci "
-                                                  "(elastic, seconds)")
+    q.add_argument("--preset", metavar=PRESET_METAVAR,
+                   help="a built-in spec instead of a spec file: ci (elastic, seconds), quick "
+                        "(a hard film on a softer layer, ULSPH, minutes) or research (sizes "
+                        "for a study, for MPI on many cores)")
     q.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     q.add_argument("--out", metavar="DIR",
                    help="run directory (default md_runs/particles-NAME)")
     q.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    q.add_argument("--plot", metavar="FILE.png",
+                   help="plot the forces and friction against the sliding distance, the "
+                        "residual groove profile and the cross-section of the plastic zone "
+                        "per layer")
     add_force_argument(q)
     q.set_defaults(func=cmd_particles_scratch, kind="scratch")

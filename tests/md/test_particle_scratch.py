@@ -104,6 +104,7 @@ def test_frictionless_elastic_limit(ci_scratch, tmp_path):
     assert abs(a.groove_depth) < 0.01 * dx
     assert abs(a.pileup_height) < 0.01 * dx
     assert a.damage[0].width == 0.0 and a.damage[0].depth == 0.0
+    assert np.isnan(a.scratch_hardness)           # no plastic groove, no scratch hardness
     # the normal force equals the indentation load at the same depth within 3 % (measured
     # 4.158 mN against 4.078 mN: +2.0 %)
     P_indent, _ = reference_indent_load(spec, tmp_path / "indent")
@@ -165,7 +166,7 @@ def test_layered_target_preset_and_source_errors(tmp_path, capsys):
     path.write_text(SPEC.format(tip="sphere:1um", spacing=2e-7, speed=100.0, extra="") +
                     "[[target.films]]\nthickness = 2e-7\nE = 200e9\nnu = 0.25\n")
     assert main(["particles", "scratch", str(path)]) == 2
-    assert "homogeneous" in capsys.readouterr().err
+    assert "method = 'ulsph'" in capsys.readouterr().err
     assert main(["particles", "scratch", "--preset", "huge"]) == 2
     assert "preset" in capsys.readouterr().err
     assert main(["particles", "scratch"]) == 2

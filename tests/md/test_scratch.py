@@ -231,3 +231,11 @@ def test_ci_scratch_plot(ci_scratch, tmp_path, capsys):
     assert d.groove_edges[1] - d.groove_edges[0] == pytest.approx(a.groove_width)
     assert int(np.sum(d.section_eta > a.damage_threshold)) == a.damage[0].atoms
     assert d.damage[0].width == pytest.approx(a.damage[0].width)
+
+
+def test_scratch_hardness_is_williams_and_only_for_plastic_grooves():
+    from filmscale.md.scratch_run import scratch_hardness
+    # 1 mN on a 2 um wide groove: the front half-disc pi w^2 / 8 = 1.5708 um^2 carries it
+    assert scratch_hardness(1e-3, 2e-6, True) == pytest.approx(1e-3 / (math.pi * 4e-12 / 8))
+    for width, plastic in ((2e-6, False), (0.0, True), (math.nan, True)):
+        assert math.isnan(scratch_hardness(1e-3, width, plastic))

@@ -21,11 +21,11 @@ from .errors import InputError
 #: what each SI unit measures, for the message of a quantity of the wrong dimension
 _MEASURES = {"m": "a length", "Pa": "a stress or modulus", "m/s": "a speed", "kg": "a mass",
              "N": "a force", "s": "a time", "N/m": "a stiffness", "m/N": "a compliance",
-             "degree": "an angle", "J": "an energy"}
+             "degree": "an angle", "J": "an energy", "kg/m^3": "a density"}
 #: an example of each, written with units
 _EXAMPLES = {"m": "10 um", "Pa": "90 GPa", "m/s": "0.5 m/s", "kg": "1.6 mg", "N": "5 mN",
              "s": "2 us", "N/m": "1e5 N/m", "m/N": "0.2 nm/mN", "degree": "30 deg",
-             "J": "1 nJ"}
+             "J": "1 nJ", "kg/m^3": "3.0 g/cm3"}
 #: longer text is not a quantity (and is not handed to the parser)
 _MAX_TEXT = 100
 #: the one number format read: a sign, ASCII digits with at most one decimal point (``.5``

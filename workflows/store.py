@@ -373,6 +373,8 @@ def _reads(path: Path, folder: int) -> tuple[str, ...]:
         return ("slide.npz",)
     if kind == "particle-indent":
         return (CURVE_ARRAYS,)
+    if kind == "md-amorphous":
+        return ("amorphous.h5",)
     if kind == "md-indent":         # `unit_curve` reads the arrays where a unit holds them
         try:
             os.stat(CURVE_ARRAYS, dir_fd=folder, follow_symlinks=False)

@@ -39,7 +39,7 @@ from filmscale.core.jsonable import to_jsonable
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.particle_run import FieldSnapshot, read_snapshot, run_particle_input
-from filmscale.md.scratch_run import groove_edges, scratch_hardness
+from filmscale.md.scratch_run import PassFigures, groove_edges, pass_figures, scratch_hardness
 from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            estimated_steps, path_direction, scratch_input)
 
@@ -143,11 +143,13 @@ class ParticleScratchAnalysis:
     wall_time: float
     plastic_threshold: float = PLASTIC_THRESHOLD
     scratch_hardness: float = math.nan     #: 8 F_n / (pi w^2), Pa (`scratch_hardness`)
+    passes: tuple[PassFigures, ...] = ()   #: per pass (the first is the figures above)
 
     def to_dict(self) -> dict:
         d = {k: getattr(self, k) for k in self.__dataclass_fields__}
         d["profile_y"], d["profile_h"] = self.profile_y.tolist(), self.profile_h.tolist()
         d["damage"] = [z.to_dict() for z in self.damage]
+        d["passes"] = [x.to_dict() for x in self.passes]
         return d
 
     def summary(self) -> str:
@@ -161,6 +163,9 @@ class ParticleScratchAnalysis:
             lines.append(f"plastic zone (eps_p > {self.plastic_threshold:g}) in {z.layer}: "
                          f"width {z.width:.4g} m, depth {z.depth:.4g} m ({z.particles} "
                          "particles)")
+        if len(self.passes) > 1:
+            lines += [f"pass {x.number}: friction {x.friction_mean:.4f} +- {x.friction_std:.4f}, "
+                      f"normal force {x.normal_force_mean:.4g} N" for x in self.passes]
         if math.isfinite(self.scratch_hardness):
             lines.append(f"scratch hardness 8 F_n / (pi w^2): {self.scratch_hardness:.4g} Pa")
         lines.append(f"{self.particles} particles, {self.steps} steps, {self.wall_time:.1f} s")
@@ -174,6 +179,18 @@ def steady_mask(run: ParticleScratchRun) -> np.ndarray:
     L = s.length
     first = (run.time > t1) & (run.time <= t1 + T)
     return first & (run.x_tip >= STEADY[0] * L) & (run.x_tip <= STEADY[1] * L)
+
+
+def particle_passes(run: ParticleScratchRun) -> tuple[PassFigures, ...]:
+    """The friction and forces over the steady part of every pass."""
+    s = run.spec.stroke
+    t1, T, _, _ = s.times
+    on_pass = [(run.time > t1 + k * T) & (run.time <= t1 + (k + 1) * T)
+               for k in range(s.passes)]
+    travel = np.zeros_like(run.x_tip)
+    for k, on in enumerate(on_pass):
+        travel[on] = run.x_tip[on] if k % 2 == 0 else s.length - run.x_tip[on]
+    return pass_figures(on_pass, travel, s.length, run.fz, run.lateral_force)
 
 
 def mid_section(run: ParticleScratchRun) -> np.ndarray:
@@ -261,7 +278,8 @@ def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
         profile_y=y, profile_h=h, damage=zones,
         particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time,
         scratch_hardness=scratch_hardness(Fn_mean, width, depth > 0 and
-                                          any(z.particles for z in zones)))
+                                          any(z.particles for z in zones)),
+        passes=particle_passes(run))
 
 
 # ---- record -----------------------------------------------------------------------------------
@@ -302,6 +320,7 @@ def write_scratch_record(run: ParticleScratchRun, analysis: ParticleScratchAnaly
             res.attrs[key] = d[key]
         res["profile_y"], res["profile_h"] = analysis.profile_y, analysis.profile_h
         res.attrs["damage"] = json.dumps(d["damage"])
+        res.attrs["passes"] = json.dumps(d["passes"])
         inputs = f.create_group("inputs")
         inputs[state["input"]] = (run.run_dir / state["input"]).read_text()
         inputs["spec.json"] = json.dumps(to_jsonable(run.spec.to_dict()))

@@ -49,7 +49,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -240,6 +240,7 @@ class ScratchAnalysis:
     profile_h: np.ndarray         #: surface height relative to the far field, m
     damage: tuple[LayerDamage, ...] = ()   #: per layer, top film first (SI)
     scratch_hardness: float = math.nan     #: 8 F_n / (pi w^2), Pa (`scratch_hardness`)
+    passes: tuple[PassFigures, ...] = ()   #: per pass (the first is the figures above)
     eta_mises: np.ndarray | None = None    #: per final atom (the order of ``final_atoms``)
     damage_threshold: float = THRESHOLD
     damage_cutoff: float = math.nan        #: neighbour cutoff of eta_Mises, m
@@ -248,6 +249,7 @@ class ScratchAnalysis:
         d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k != "eta_mises"}
         d["profile_y"], d["profile_h"] = self.profile_y.tolist(), self.profile_h.tolist()
         d["damage"] = [x.to_dict() for x in self.damage]
+        d["passes"] = [x.to_dict() for x in self.passes]
         return d
 
 
@@ -259,6 +261,53 @@ def steady_mask(run: ScratchRun) -> np.ndarray:
     first = (run.data["step"] > s.s_stroke) & (run.data["step"] <= s.s_stroke + s.n_slide)
     L = spec.stroke.length
     return first & (travel >= STEADY[0] * L) & (travel <= STEADY[1] * L)
+
+
+@dataclass(frozen=True)
+class PassFigures:
+    """Friction and forces over the steady part of one pass (`STEADY` of its travel), SI."""
+
+    number: int                   #: 1 for the first pass along +x, 2 back, ...
+    friction_mean: float
+    friction_std: float
+    normal_force_mean: float      #: N
+    lateral_force_mean: float     #: N, positive against the motion
+    points: int
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def pass_figures(on_pass: list[np.ndarray], travel: np.ndarray, length: float,
+                 normal: np.ndarray, lateral: np.ndarray) -> tuple[PassFigures, ...]:
+    """Per pass (``on_pass[k]``: its recorded points; ``travel``: the distance slid since
+    the pass began, m), the figures over its steady part."""
+    out = []
+    nan = math.nan
+    for k, on in enumerate(on_pass):
+        steady = on & (travel >= STEADY[0] * length) & (travel <= STEADY[1] * length)
+        Fn, Fl = normal[steady], lateral[steady]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mu = Fl / Fn
+        mu = mu[np.isfinite(mu)]
+        out.append(PassFigures(k + 1, float(mu.mean()) if mu.size else nan,
+                               float(mu.std(ddof=1)) if mu.size > 1 else nan,
+                               float(Fn.mean()) if Fn.size else nan,
+                               float(Fl.mean()) if Fl.size else nan, int(steady.sum())))
+    return tuple(out)
+
+
+def scratch_passes(run: ScratchRun) -> tuple[PassFigures, ...]:
+    """The friction and forces over the steady part of every pass of an MD scratch."""
+    s = run.spec.schedule()
+    step, L = run.data["step"], run.spec.stroke.length
+    from_start = run.data["x_tip"] - run.spec.x_start
+    on_pass, travel = [], np.zeros_like(from_start)
+    for k, start in enumerate(s.pass_starts()):
+        on = (step > start) & (step <= start + s.n_slide)
+        on_pass.append(on)
+        travel[on] = from_start[on] if k % 2 == 0 else L - from_start[on]
+    return pass_figures(on_pass, travel, L, run.normal_force, run.lateral_force)
 
 
 def block_sem(values: np.ndarray, blocks: int = BLOCKS) -> float:
@@ -388,7 +437,8 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
         pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
         damage=damage, eta_mises=eta, damage_cutoff=cutoff,
         scratch_hardness=scratch_hardness(Fn_mean, width, groove > 0 and
-                                          any(d.atoms for d in damage)))
+                                          any(d.atoms for d in damage)),
+        passes=scratch_passes(run))
 
 
 def stroke_mask(run: ScratchRun) -> np.ndarray:
@@ -439,6 +489,7 @@ def write_scratch_record(run: ScratchRun, analysis: ScratchAnalysis,
         d = analysis.to_dict()
         a["profile_y"], a["profile_h"] = d.pop("profile_y"), d.pop("profile_h")
         rows = d.pop("damage")
+        a.attrs["passes"] = json.dumps(d.pop("passes"))
         write_attrs(a, {k: float(v) for k, v in d.items()})
         dmg = a.create_group("damage")
         dmg.attrs["criterion"] = (f"atomic von Mises strain (Shimizu, Ogata & Li 2007) > "

@@ -161,6 +161,10 @@ def _print_scratch(run, a, record: Path, plot=None) -> None:
     print(f"residual groove at mid-stroke: depth {a.groove_depth * 1e9:.3f} nm, width "
           f"{a.groove_width * 1e9:.3f} nm, pile-up {a.pileup_height * 1e9:.3f} nm "
           f"(edge of the profile {a.edge_height * 1e9:+.3f} nm)")
+    if len(a.passes) > 1:
+        for x in a.passes:
+            print(f"pass {x.number}: friction {x.friction_mean:.3f} +- {x.friction_std:.3f}, "
+                  f"normal force {x.normal_force_mean * 1e9:.2f} nN")
     if math.isfinite(a.scratch_hardness):
         print(f"scratch hardness 8 F_n / (pi w^2): {a.scratch_hardness / 1e9:.3f} GPa")
     for d in a.damage:
@@ -202,6 +206,7 @@ def cmd_md_scratch(args) -> int:
         figures = {k: getattr(analysis, k) for k in SCRATCH_KEYS}
         figures["damage"] = [{"layer": d.layer, "width": d.width, "depth": d.depth}
                              for d in analysis.damage]
+        figures["passes"] = [x.to_dict() for x in analysis.passes]
         print(dumps({**figures, "n_atoms": run.n_atoms, "n_steps": run.n_steps,
                      "wall_time": run.wall_time, "result": str(record), "plot": args.plot}))
     else:

@@ -101,6 +101,7 @@ def cmd_particles_scratch(args) -> int:
         figures = {k: getattr(analysis, k) for k in JSON_KEYS}
         figures["damage"] = [{"layer": z.layer, "width": z.width, "depth": z.depth}
                              for z in analysis.damage]
+        figures["passes"] = [x.to_dict() for x in analysis.passes]
         print(dumps({**figures, "particles": analysis.particles, "steps": analysis.steps,
                      "wall_time": analysis.wall_time, "result": str(record),
                      "plot": args.plot}))

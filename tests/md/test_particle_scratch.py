@@ -171,3 +171,19 @@ def test_layered_target_preset_and_source_errors(tmp_path, capsys):
     assert "preset" in capsys.readouterr().err
     assert main(["particles", "scratch"]) == 2
     assert "--preset" in capsys.readouterr().err
+
+
+def test_second_pass_in_its_own_groove_ploughs_less(tmp_path):
+    """Plastic Al (sigma_y 0.3 GPa) scratched twice at one depth: the second pass slides in
+    the groove the first ploughed, so it carries less load and far less lateral force
+    (measured, 3 passes: friction 0.247, 0.027, 0.008; normal force 0.43, 0.16, 0.14 mN)."""
+    data = copy.deepcopy(PRESETS["ci"])
+    data["target"]["substrate"]["sigma_y"] = 0.3e9
+    data["scratch"]["passes"] = 2
+    a = analyze_scratch(run_scratch(scratch_spec(data), tmp_path))
+    first, second = a.passes
+    # the first pass is the analysis's steady stroke
+    assert first.friction_mean == a.friction_mean and first.points == a.steady_points
+    assert first.friction_mean > 0.1 and second.points > 0.8 * first.points
+    assert second.friction_mean < 0.5 * first.friction_mean
+    assert second.normal_force_mean < 0.7 * first.normal_force_mean

@@ -239,3 +239,30 @@ def test_scratch_hardness_is_williams_and_only_for_plastic_grooves():
     assert scratch_hardness(1e-3, 2e-6, True) == pytest.approx(1e-3 / (math.pi * 4e-12 / 8))
     for width, plastic in ((2e-6, False), (0.0, True), (math.nan, True)):
         assert math.isnan(scratch_hardness(1e-3, width, plastic))
+
+
+def test_per_pass_figures_on_a_two_pass_record_written_here():
+    """A two-pass record built from the stroke's closed form: F_n = 50 nN throughout, a
+    lateral force 15 nN against the motion on the first pass and 5 nN on the second; each
+    pass's steady part is 20-80 % of its length: about 0.6 of its steps."""
+    from types import SimpleNamespace
+
+    from filmscale.md.scratch_run import scratch_passes
+    data = dict(PRESETS["ci"], scratch={**PRESETS["ci"]["scratch"], "passes": 2})
+    spec = scratch_spec_from_mapping(data)
+    s = spec.schedule()
+    step = np.arange(0, s.s_end + 1, 10)
+    second = step > s.s_stroke + s.n_slide
+    direction = s.direction(step)
+    fx = -direction * np.where(second, 5e-9, 15e-9)     # -F_x along +x, +F_x back
+    run = SimpleNamespace(spec=spec, data={"step": step, "x_tip": s.tip_x(step, spec.x_start),
+                                           "fz": np.full(step.size, 50e-9), "fx": fx},
+                          normal_force=np.full(step.size, 50e-9),
+                          lateral_force=-direction * fx)
+    first, back = scratch_passes(run)
+    assert (first.number, back.number) == (1, 2)
+    assert first.friction_mean == pytest.approx(0.3) and back.friction_mean == pytest.approx(0.1)
+    assert first.normal_force_mean == pytest.approx(50e-9)
+    assert back.lateral_force_mean == pytest.approx(5e-9)
+    for p in (first, back):
+        assert abs(p.points - 0.6 * s.n_slide / 10) <= 2

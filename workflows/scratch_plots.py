@@ -1,8 +1,10 @@
-"""The figure of an atomistic nanoscratch (`filmscale md scratch --plot`, docs/md-indentation.md):
-what a reader of the seed dissertation's chapter 7 looks for. Pyplot-free, as `plots`.
+"""The figure of a scratch (`filmscale md scratch --plot`, docs/md-indentation.md; `filmscale
+particles scratch --plot`, docs/particles.md): what a reader of the seed dissertation's
+chapter 7 looks for. Pyplot-free, as `plots`.
 
 Four panels: the normal and lateral force on the indenter against its sliding distance, the
-steady part of the first pass (20-80 % of the stroke, where the friction is averaged) shaded;
+steady part of the first pass (20-80 % of the stroke, where the friction is averaged) shaded
+(under constant load, the target load and the indenter's depth on a right-hand axis);
 the friction coefficient F_lat / F_n against the same distance, its steady mean +- std drawn;
 the residual groove profile across the groove at mid-stroke, with the undeformed surface (0),
 the groove depth, width and pile-up marked; and the cross-section of the plastic zone: the
@@ -89,6 +91,9 @@ class ScratchFigureData:
     strain_symbol: str = "eta_Mises"
     strain_max: float = ETA_MAX
     strain_ticks: tuple[float, ...] = ETA_TICKS
+    #: a constant-load stroke: its target (N) and the indenter's depth at each distance (m)
+    normal_load: float = math.nan
+    depth: np.ndarray | None = None
     item: str = "atom"           #: what a dot of the cross-section is
     slice_thickness: float = 1e-9    #: of the cross-section along x, m
 
@@ -146,9 +151,12 @@ def scratch_figure_data(run, analysis) -> ScratchFigureData:
             top = 0.0 if k == 0 else slab.z_surface - slab.layer_tops[k]
             boxes.append(DamageBox(d.layer, float(y0[m].min()), float(y0[m].max()), d.depth,
                                    d.atoms, top))
+    load = spec.stroke.normal_load
     return ScratchFigureData(
         name=spec.name, distance=s.dx * (run.data["step"][on] - s.s_stroke),
         normal_force=run.normal_force[on], lateral_force=run.lateral_force[on],
+        normal_load=math.nan if load is None else load,
+        depth=None if load is None else run.data["depth"][on],
         stroke_length=L, steady=(STEADY[0] * L, STEADY[1] * L),
         friction_mean=analysis.friction_mean, friction_std=analysis.friction_std,
         profile_y=analysis.profile_y, profile_h=analysis.profile_h,
@@ -223,15 +231,29 @@ def _legend_below(ax, ncol: int = 2) -> None:
 
 def _draw_forces(ax, d: ScratchFigureData) -> None:
     _steady_span(ax, d, True)
-    ax.plot(d.distance * d.length_scale, d.normal_force * d.force_scale, "-", lw=1.0, color="tab:blue",
+    x = d.distance * d.length_scale
+    ax.plot(x, d.normal_force * d.force_scale, "-", lw=1.0, color="tab:blue",
             label="normal force F_n")
-    ax.plot(d.distance * d.length_scale, d.lateral_force * d.force_scale, "-", lw=1.0, color="tab:red",
+    ax.plot(x, d.lateral_force * d.force_scale, "-", lw=1.0, color="tab:red",
             label="lateral force F_lat (against the motion)")
+    if math.isfinite(d.normal_load):
+        ax.axhline(d.normal_load * d.force_scale, color="tab:blue", lw=1.0, ls="--",
+                   label=f"target load {d.normal_load * d.force_scale:.3g} {d.force_unit}")
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel(f"sliding distance ({d.length_unit})")
     ax.set_ylabel(f"force ({d.force_unit})")
     ax.set_title("forces on the indenter", fontsize=9)
-    _legend_below(ax)
+    if d.depth is None:
+        _legend_below(ax)
+        return
+    # under load the depth is the output: on its own axis, in the legend with the forces
+    right = ax.twinx()
+    right.plot(x, d.depth * d.length_scale, "-", lw=1.0, color="0.35",
+               label="indenter depth (right axis)")
+    right.set_ylabel(f"indenter depth ({d.length_unit})")
+    handles = [h for a in (ax, right) for h in a.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2),
+              ncol=2, frameon=False)
 
 
 def _draw_friction(ax, d: ScratchFigureData) -> None:

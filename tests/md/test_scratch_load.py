@@ -387,3 +387,18 @@ def test_killed_load_run_resumes_with_the_feedback_state(load_scratch, tmp_path)
     assert abs(r.normal_force_mean - r.normal_load) <= max(3 * r.normal_force_sem,
                                                            0.02 * r.normal_load)
     assert abs(r.depth_mean - b.depth_mean) <= max(b.depth_std, r.depth_std)
+
+
+def test_load_figure_draws_the_target_and_the_depth(load_scratch, tmp_path):
+    """Under load the forces panel carries the target and the depth on its own axis."""
+    from filmscale.workflows.scratch_plots import plot_scratch, scratch_figure_data
+    run, a, _ = load_scratch
+    data = scratch_figure_data(run, a)
+    assert data.normal_load == pytest.approx(6.739e-8)
+    assert data.depth.shape == data.distance.shape
+    assert np.all(data.depth[(data.distance > 0.2 * run.spec.stroke.length)] > 0)
+    fig = plot_scratch(data, tmp_path / "load.png")
+    forces = fig.axes[0]
+    labels = [t.get_text() for t in forces.get_legend().get_texts()]
+    assert "target load 67.4 nN" in labels and "indenter depth (right axis)" in labels
+    assert any(ax.get_ylabel() == "indenter depth (nm)" for ax in fig.axes)

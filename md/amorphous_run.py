@@ -50,9 +50,10 @@ from filmscale.continuum.elasticity import (IsotropicAverage, stiffness_from_str
 from filmscale.core.errors import InputError
 from filmscale.core.files import atomic_h5, read_json, write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.amorphous_film import AmorphousBlock
 from filmscale.md.amorphous import (DATA_FILE, FINAL_DUMP, RECORD_COLUMNS, STAGES,
                                     AmorphousRecipe, final_input, stage_input, start_atoms)
-from filmscale.md.elastic import parse_states
+from filmscale.md.elastic import ElasticConstants, parse_states
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.lammps_input import write_input
 from filmscale.md.lammps_units import lammps_to_si, si_to_lammps
@@ -217,6 +218,24 @@ def elastic_of_block(recipe: AmorphousRecipe, atoms, run_dir: Path | str,
     run_input("in.block", run_dir, engine, log_name="log.block")
     final = read_final(run_dir, "log.block")
     return elastic_from_states(final["strains"], final["stresses"] + final["pressure"]), final
+
+
+def read_block(path: Path | str) -> AmorphousBlock:
+    """The final 0 K block of an ``amorphous.h5`` record (or of the unit folder that holds
+    one), the source of an amorphous film; InputError for a path that is not one."""
+    import h5py
+    path = Path(path)
+    path = path / RECORD_NAME if path.is_dir() else path
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("format") != RECORD_FORMAT:
+                raise InputError(f"block = {str(path)!r} is not an amorphous-block record")
+            recipe = json.loads(f["inputs/recipe.json"][()])
+            positions, box = f["block/positions"][()], f["block/box"][()]
+    except OSError as err:
+        raise InputError(f"block = {str(path)!r} cannot be read: {err}") from None
+    return AmorphousBlock(recipe["element"], positions, box, recipe["potential"]["name"],
+                          recipe["potential"]["sha256"], str(path))
 
 
 # ---- analysis ---------------------------------------------------------------------------------
@@ -439,3 +458,18 @@ def summary_lines(summary: dict, recipe: AmorphousRecipe) -> list[str]:
         f"isotropy: C11, C22, C33 spread {100 * s['axial_spread']:.1f} %, C44 / ((C11 - C12)"
         f" / 2) = {s['shear_ratio']:.3f}, A_U {s['A_U']:.3f}",
     ]
+
+
+def block_elastic_constants(block: AmorphousBlock) -> ElasticConstants:
+    """The elastic constants of the block a film was cut from, as `md.elastic` gives a
+    crystal's: its record's C (the block's own, `block_elastic`), the recipe's strain and
+    their Hill average; what an indentation of the film compares its Hertz fit with."""
+    import h5py
+    summary = read_amorphous_summary(block.source)
+    with h5py.File(block.source, "r") as f:
+        strain = json.loads(f["inputs/recipe.json"][()])["strain"]
+    C = np.asarray(summary["C"], float)
+    return ElasticConstants(potential=block.potential, element=block.element,
+                            structure="amorphous", C=C, cell=tuple(float(x) for x in block.box),
+                            strain=float(strain), fit_rms=float(summary["fit_rms"]),
+                            average=voigt_reuss_hill(C))

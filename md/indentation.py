@@ -25,7 +25,7 @@ import numpy as np
 from filmscale.continuum.indentation.tips import Cone, Sphere
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
-from filmscale.md.structures import Slab, SlabSpec, build_slab
+from filmscale.md.structures import Slab, SlabSpec, build_slab, check_stack
 from filmscale.md.lammps_units import si_to_lammps, lammps_to_si
 from filmscale.potentials import Potential
 from filmscale.potentials.lammps_words import check_name, shown
@@ -241,7 +241,8 @@ class IndentSpec:
 
     def __post_init__(self):
         check_name("name", self.name)      # a folder name and a word of the input's comment
-        self.potential.pair_commands(self.slab.elements)   # unknown elements fail here
+        check_stack(self.slab, self.potential)     # elements the potential lacks fail here
+        self.potential.pair_commands(self.slab.elements)
         if self.slab_built is None:
             object.__setattr__(self, "slab_built", build_slab(self.slab))
         slab = self.slab_built

@@ -21,6 +21,15 @@ A spec file (SI units throughout)::
     depth = 8e-10
     speed = 100.0                 # m/s
 
+An amorphous film is cut from the record of ``filmscale md amorphous`` (its potential must be
+the spec's)::
+
+    [[slab.films]]
+    structure = "amorphous"
+    block = "md_runs/md-amorphous-0123456789abcdef"   # the unit, or its amorphous.h5
+    thickness = 1.0e-9            # m, cut to this height
+    gap = 1.5e-10                 # m, above the highest atom below (default)
+
 Presets: ``ci`` (the test suite's run, seconds), ``quick`` (a few-nm Cu film on Ni: a
 Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``research``
 (sizes for a study, meant for MPI on many cores).
@@ -34,6 +43,8 @@ from pathlib import Path
 from filmscale.core.checks import check_keys, check_path, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
+from filmscale.md.amorphous_film import DEFAULT_GAP, AmorphousLayer
+from filmscale.md.amorphous_run import read_block
 from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
@@ -92,6 +103,22 @@ def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
     return SlabLayer(Crystal(element, structure, a, table.get("c")), table["thickness"])
 
 
+def _film(where: str, table: dict, potential: Potential, base_dir: Path | None):
+    """A film: a crystal, or ``structure = "amorphous"`` with ``block`` (the record of
+    `filmscale md amorphous`, or its unit folder; relative to the spec file), ``thickness``
+    and ``gap`` (m)."""
+    if not isinstance(table, dict) or table.get("structure") != "amorphous":
+        return _crystal(where, table, potential)
+    table = check_keys(where, table, {"structure", "block", "thickness", "gap"})
+    block = required(where, table, "block")
+    if not isinstance(block, str):
+        raise InputError(f"{where}.block = {shown(block)} must be the path of an "
+                         "amorphous-block record")
+    path = Path(block) if base_dir is None else Path(base_dir) / block
+    return AmorphousLayer(read_block(path), required(where, table, "thickness"),
+                          table.get("gap", DEFAULT_GAP))
+
+
 def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
     """An `IndentSpec` from a TOML-like mapping (see the module docstring)."""
     data = check_keys("spec", data, {"name", "potential", "slab", "indenter", "protocol"})
@@ -106,7 +133,8 @@ def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:
     del slab["substrate"]
     check_keys("slab", slab, {"orientation", "lateral_size", "fixed_thickness",
                               "thermostat_thickness", "vacuum", "films", "substrate"})
-    layers = tuple(_crystal(f"slab.films[{i}]", f, potential) for i, f in enumerate(films))
+    layers = tuple(_film(f"slab.films[{i}]", f, potential, base_dir)
+                   for i, f in enumerate(films))
     slab_spec = SlabSpec(films=layers, substrate=substrate, **slab)
     indenter = dict(check_table("indenter", data["indenter"]))
     shape = indenter.pop("shape", "sphere")

@@ -123,8 +123,12 @@ def cmd_md_indent(args) -> int:
         run = run_indentation(spec, out, engine, progress=step_callback(bar, total))
     finally:
         bar.close()
-    top = (spec.slab.films or (spec.slab.substrate,))[0].crystal
-    elastic = elastic_constants(spec.potential, top, run_dir=out / "elastic")
+    top = (spec.slab.films or (spec.slab.substrate,))[0]
+    if top.structure == "amorphous":     # the block it was cut from knows its constants
+        from filmscale.md.amorphous_run import block_elastic_constants
+        elastic = block_elastic_constants(top.block)
+    else:
+        elastic = elastic_constants(spec.potential, top.crystal, run_dir=out / "elastic")
     analysis = analyze_indentation(run, elastic)
     record = write_record(run, analysis, elastic, provenance=provenance(
         command="filmscale " + " ".join(sys.argv[1:])))

@@ -67,12 +67,19 @@ def hertz_fit(curve: LoadDisplacementCurve, *, R=None, E_r=None, P_limit=None,
 
     h0 = 0.0
     if fit_offset:
-        span = float(h.max())      # unknowns scaled to order one for the solver's tolerances
+        # unknowns scaled to order one for the solver's tolerances; the contact starts below
+        # the first loaded point, which may lie above the nominal surface (h <= 0: a surface
+        # placed too deep, as on a rough or amorphous top)
+        low = min(float(h.min()), 0.0)
+        span = float(h.max()) - low
+        upper = (float(h.min()) - 1e-3 * abs(float(h.min()))) / span if h.min() > 0 else \
+            (float(h.min()) - 1e-3 * span) / span
+        lower = low / span - 1.0
 
         def misfit(v):
             K, x = amplitude(v[0] * span)
             return (K * x - P) / P.max()
-        fit = least_squares(misfit, [0.0], bounds=([-1.0], [float(h.min()) * 0.999 / span]),
+        fit = least_squares(misfit, [0.0 if upper > 0 else upper - 1e-2], bounds=([lower], [upper]),
                             xtol=1e-14, ftol=1e-14, gtol=1e-14)
         h0 = float(fit.x[0]) * span
     K, x = amplitude(h0)

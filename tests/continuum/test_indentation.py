@@ -155,6 +155,19 @@ def test_hertz_fit_recovers_modulus_or_radius():
     assert fit.h_0 == pytest.approx(2e-9, rel=1e-4) and fit.E_r == pytest.approx(80e9, rel=1e-4)
 
 
+@pytest.mark.parametrize("shift", [-5e-9, -20e-9, -2e-9])
+def test_hertz_fit_finds_a_contact_above_the_nominal_surface(shift):
+    """A surface placed too deep: the load starts at negative depth (an amorphous or rough
+    top whose mean height lies below its highest atoms). The zero and E_r come back, as
+    P = (4/3) E_r sqrt(R) (h - h_0)^1.5 written out here says."""
+    R, E_r = 5e-6, 80e9
+    h = np.linspace(0.0, 20e-9, 200)[1:] + shift
+    P = 4.0 / 3.0 * E_r * np.sqrt(R) * (h - shift) ** 1.5
+    fit = hertz_fit(LoadDisplacementCurve(h, P), R=R, fit_offset=True)
+    assert fit.h_0 == pytest.approx(shift, abs=1e-3 * 20e-9)
+    assert fit.E_r == pytest.approx(E_r, rel=1e-3)
+
+
 def test_pop_in_found_and_hertz_fit_stops_there():
     c = hertz_curve(1e-6, 150e9, 15e-9, pop_in=(180, 4e-9), noise=2e-4, seed=0)
     pop = detect_pop_in(c)

@@ -207,3 +207,26 @@ def test_the_films_elastic_constants_are_its_blocks(unit):
     assert elastic.average.E == pytest.approx(E_voigt, rel=0.05)
     assert elastic.E_star == pytest.approx(elastic.average.E / (1 - elastic.average.nu**2))
     assert elastic.average.nu == pytest.approx(nu_voigt, abs=0.03)
+
+
+@pytest.mark.slow
+def test_md_indent_runs_on_an_amorphous_film(unit, tmp_path, capsys):
+    """`filmscale md indent` on a 1 nm film of the block on diamond(001) (808 atoms, about
+    80 s): the run finishes and compares its Hertz fit with the block's own E*."""
+    import tomli_w
+
+    from filmscale.md.amorphous_run import block_elastic_constants
+    from filmscale.workflows.cli import main
+    table = {"name": "aC-on-diamond", "potential": {"name": "SiC_tersoff"},
+             "slab": {"orientation": "001", **SLAB,
+                      "films": [{"structure": "amorphous", "block": str(unit),
+                                 "thickness": FILM}],
+                      "substrate": {"element": "C", "thickness": SUBSTRATE}},
+             "indenter": {"shape": "sphere", "radius": 4e-10},
+             "protocol": {"depth": 2e-10, "timestep": 1e-15}}
+    (tmp_path / "spec.toml").write_text(tomli_w.dumps(table))
+    assert main(["md", "indent", str(tmp_path / "spec.toml"), "--out", str(tmp_path / "run"),
+                 "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["E_star"] == pytest.approx(block_elastic_constants(read_block(unit)).E_star)
+    assert d["P_max"] > 0 and d["n_atoms"] > 500

@@ -232,30 +232,27 @@ def _amorphous_recipe(args):
     return recipe if args.density is None else with_density(recipe, args.density)
 
 
-def cmd_md_amorphous(args) -> int:
-    """Make (or reuse) the amorphous block of a recipe: a unit of the store ``--out``
-    (default md_runs) named by the hash of the recipe (`workflows.store`)."""
-    from filmscale.md.amorphous_run import (RECORD_NAME, analyze_amorphous,
-                                            read_amorphous_summary, run_amorphous,
-                                            summary_lines, write_amorphous_record)
-    from filmscale.md.engine import EngineOptions
+#: the figures an ensemble of quench seeds averages (`md amorphous --seeds N`)
+ENSEMBLE_KEYS = ("density", "sp3_fraction", "sp2_fraction", "sp_fraction", "mean_coordination",
+                 "E", "nu", "K", "G", "residual_stress", "energy_per_atom")
+
+
+def _amorphous_unit(recipe, store: Path, engine, args) -> tuple[Path, bool]:
+    """The unit of ``recipe`` in ``store``: made (LAMMPS, with progress) or reused."""
+    from filmscale.md.amorphous_run import (RECORD_NAME, analyze_amorphous, run_amorphous,
+                                            write_amorphous_record)
     from filmscale.workflows.progress import progress_bar, step_callback
     from filmscale.workflows.store import (done_record, finish_unit, own_folder, unit_dir,
                                            unit_lock)
 
-    recipe = _amorphous_recipe(args)
-    engine = EngineOptions(np=args.np, omp_threads=args.omp)
-    store = Path(args.out) if args.out else Path("md_runs")
-    if store.exists() and not store.is_dir():
-        raise InputError(f"--out {store} is a file, not a folder")
     unit = unit_dir(store, "md-amorphous", recipe.to_dict())
     with unit_lock(unit):
         reused = done_record(unit) is not None
         if not reused:
             total = recipe.schedule().total
             if not args.json:
-                print(f"{recipe.name}: {recipe.n_atoms} atoms, {total} steps, {args.np} "
-                      f"rank(s); unit {unit}", file=sys.stderr)
+                print(f"{recipe.name} (seed {recipe.seed}): {recipe.n_atoms} atoms, {total} "
+                      f"steps, {args.np} rank(s); unit {unit}", file=sys.stderr)
             bar = progress_bar(total, "step", recipe.name)
             try:
                 run = run_amorphous(recipe, own_folder(unit), engine,
@@ -266,15 +263,60 @@ def cmd_md_amorphous(args) -> int:
                 command="filmscale " + " ".join(sys.argv[1:])))
             finish_unit(unit, {"kind": "md-amorphous", "wall_time": run.wall_time},
                         files=(RECORD_NAME,))
-    summary = read_amorphous_summary(unit / RECORD_NAME)
+    return unit, reused
+
+
+def _ensemble(summaries: list[dict]) -> tuple[dict, dict]:
+    """Mean and sample standard deviation over the seeds of each `ENSEMBLE_KEYS` figure."""
+    import numpy as np
+    values = {k: np.array([s[k] for s in summaries], float) for k in ENSEMBLE_KEYS}
+    return ({k: float(v.mean()) for k, v in values.items()},
+            {k: float(v.std(ddof=1)) for k, v in values.items()})
+
+
+def cmd_md_amorphous(args) -> int:
+    """Make (or reuse) the amorphous block of a recipe, or of ``--seeds N`` quench seeds
+    (seed, seed + 1, ...): each a unit of the store ``--out`` (default md_runs) named by the
+    hash of its recipe (`workflows.store`)."""
+    import dataclasses
+
+    from filmscale.md.amorphous_run import RECORD_NAME, read_amorphous_summary, summary_lines
+    from filmscale.md.engine import EngineOptions
+
+    recipe = _amorphous_recipe(args)
+    if isinstance(args.seeds, bool) or not 1 <= args.seeds <= 64:
+        raise InputError(f"--seeds {args.seeds} must be an integer in [1, 64]")
+    engine = EngineOptions(np=args.np, omp_threads=args.omp)
+    store = Path(args.out) if args.out else Path("md_runs")
+    if store.exists() and not store.is_dir():
+        raise InputError(f"--out {store} is a file, not a folder")
+    rows = []
+    for k in range(args.seeds):
+        seeded = dataclasses.replace(recipe, seed=recipe.seed + k)
+        unit, reused = _amorphous_unit(seeded, store, engine, args)
+        summary = read_amorphous_summary(unit / RECORD_NAME)
+        rows.append({**{key: summary[key] for key in AMORPHOUS_KEYS}, "seed": seeded.seed,
+                     "n_atoms": summary["n_atoms"], "wall_time": summary["wall_time"],
+                     "reused": reused, "unit": str(unit), "result": str(unit / RECORD_NAME)})
+        if not args.json:
+            print("\n".join(summary_lines(summary, seeded)))
+            print(f"record: {unit / RECORD_NAME}  ({'reused' if reused else 'made'}, "
+                  f"{summary['wall_time']:.1f} s in LAMMPS)")
+    if args.seeds == 1:
+        if args.json:
+            print(dumps({k: v for k, v in rows[0].items() if k != "seed"}))
+        return 0
+    mean, std = _ensemble(rows)
     if args.json:
-        print(dumps({**{k: summary[k] for k in AMORPHOUS_KEYS}, "n_atoms": summary["n_atoms"],
-                     "wall_time": summary["wall_time"], "reused": reused, "unit": str(unit),
-                     "result": str(unit / RECORD_NAME)}))
+        print(dumps({**mean, "E_std": std["E"], "nu_std": std["nu"],
+                     "sp3_fraction_std": std["sp3_fraction"],
+                     "residual_stress_std": std["residual_stress"], "ensemble_std": std,
+                     "seeds": rows}))
     else:
-        print("\n".join(summary_lines(summary, recipe)))
-        print(f"record: {unit / RECORD_NAME}  ({'reused' if reused else 'made'}, "
-              f"{summary['wall_time']:.1f} s in LAMMPS)")
+        print(f"ensemble of {args.seeds} seeds (mean +- sample std): sp3 "
+              f"{mean['sp3_fraction']:.3f} +- {std['sp3_fraction']:.3f}, E "
+              f"{mean['E'] / 1e9:.1f} +- {std['E'] / 1e9:.1f} GPa, nu {mean['nu']:.3f} +- "
+              f"{std['nu']:.3f}, density {mean['density']:.1f} kg/m^3")
     return 0
 
 
@@ -359,6 +401,9 @@ def add_arguments(sub) -> None:
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="the store the unit is kept in (default "
                                                 "md_runs)")
+    p.add_argument("--seeds", type=int, default=1, metavar="N",
+                   help="quench N seeds (the recipe's, +1, ...), each a unit; --json gives "
+                        "their mean, their scatter and each seed's figures")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.set_defaults(func=cmd_md_amorphous)
 

@@ -247,3 +247,29 @@ def test_sp3_fraction_rises_with_density(tmp_path):
         found.append(amorphous_run.analyze_amorphous(run).fractions["sp3"])
     print("sp3 at 2.0, 2.6, 3.2 g/cm3:", found)
     assert found[0] < found[1] < found[2]
+
+
+def test_seed_ensemble_is_one_unit_a_seed_and_their_statistics(tmp_path, capsys):
+    """`--seeds 3` on the tiny recipe: three units (seeds 7, 8, 9), different blocks, the
+    mean and the sample standard deviation over them as written out here; a second call
+    reuses all three."""
+    import tomli_w
+    (tmp_path / "tiny.toml").write_text(tomli_w.dumps(TINY))
+    args = ["md", "amorphous", str(tmp_path / "tiny.toml"), "--seeds", "3", "--out",
+            str(tmp_path / "store"), "--json"]
+    assert main(args) == 0
+    d = json.loads(capsys.readouterr().out)
+    seeds = d["seeds"]
+    assert [s["seed"] for s in seeds] == [7, 8, 9] and not any(s["reused"] for s in seeds)
+    assert len({s["unit"] for s in seeds}) == 3
+    assert len({s["energy_per_atom"] for s in seeds}) == 3        # three different quenches
+    for key in ("E", "sp3_fraction", "density", "residual_stress"):
+        values = [s[key] for s in seeds]
+        mean = sum(values) / 3
+        std = (sum((v - mean) ** 2 for v in values) / 2) ** 0.5
+        assert d[key] == pytest.approx(mean, rel=1e-12)
+        assert d["ensemble_std"][key] == pytest.approx(std, rel=1e-9, abs=1e-12)
+    assert d["E_std"] == d["ensemble_std"]["E"]
+    assert main(args) == 0
+    assert all(s["reused"] for s in json.loads(capsys.readouterr().out)["seeds"])
+    assert main([*args[:-1], "--seeds", "0"]) == 2

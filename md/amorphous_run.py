@@ -473,3 +473,13 @@ def block_elastic_constants(block: AmorphousBlock) -> ElasticConstants:
                             structure="amorphous", C=C, cell=tuple(float(x) for x in block.box),
                             strain=float(strain), fit_rms=float(summary["fit_rms"]),
                             average=voigt_reuss_hill(C))
+
+
+def layer_elastic_constants(potential, layer, run_dir: Path | str,
+                            engine: EngineOptions = EngineOptions()) -> ElasticConstants:
+    """The elastic constants of one slab layer: a crystal's from the potential (`md.elastic`,
+    run in ``run_dir``), an amorphous film's from its block's record."""
+    if layer.structure == "amorphous":
+        return block_elastic_constants(layer.block)
+    from filmscale.md.elastic import elastic_constants
+    return elastic_constants(potential, layer.crystal, run_dir=run_dir, engine=engine)

@@ -130,15 +130,30 @@ def atomic_strain(x0: np.ndarray, x: np.ndarray, cutoff: float, box=None,
     return out
 
 
+#: neighbours an amorphous layer's cutoff encloses on average (`amorphous_cutoff`): the bcc
+#: shell's count, enough for a well-posed fit where the first shell is planar (sp2)
+AMORPHOUS_NEIGHBOURS = 14
+
+
 def shell_cutoff(structure: str, a: float) -> float:
     """A neighbour cutoff between two neighbour shells of a crystal of lattice constant a:
     fcc between the 1st (a/sqrt 2) and 2nd (a) shells, 12 neighbours; bcc between the 2nd (a)
-    and 3rd (a sqrt 2) shells, 14; hcp (ideal) between a and a sqrt 2, 12."""
+    and 3rd (a sqrt 2) shells, 14; hcp (ideal) between a and a sqrt 2, 12; diamond between
+    the 2nd (a/sqrt 2) and 3rd (a sqrt 11 / 4) shells, 16."""
     if structure == "fcc":
         return 0.5 * (1.0 / math.sqrt(2.0) + 1.0) * a
     if structure in ("bcc", "hcp"):
         return 0.5 * (1.0 + math.sqrt(2.0)) * a
-    raise ValueError(f"structure {structure!r} is not fcc, bcc or hcp")
+    if structure == "diamond":
+        return 0.5 * (1.0 / math.sqrt(2.0) + math.sqrt(11.0) / 4.0) * a
+    raise ValueError(f"structure {structure!r} is not fcc, bcc, hcp or diamond")
+
+
+def amorphous_cutoff(number_density: float, neighbours: int = AMORPHOUS_NEIGHBOURS) -> float:
+    """The radius whose sphere holds ``neighbours`` atoms on average at ``number_density``
+    (atoms per unit volume; the radius comes in the inverse unit's length): an amorphous
+    layer has no shells to fall between."""
+    return (3.0 * neighbours / (4.0 * math.pi * number_density)) ** (1.0 / 3.0)
 
 
 @dataclass(frozen=True)

@@ -278,7 +278,7 @@ def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
         profile_y=y, profile_h=h, damage=zones,
         particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time,
         scratch_hardness=scratch_hardness(Fn_mean, width, depth > 0 and
-                                          any(z.particles for z in zones)),
+                                          any(z.particles for z in zones), a),
         passes=particle_passes(run))
 
 

@@ -290,13 +290,21 @@ def load_control(spec: ScratchSpec, E_star: float) -> LoadControl:
     return LoadControl(F, E_star, k, 2.0 * math.pi / RESPONSE_PERIOD, DAMPING_RATIO)
 
 
+def _x_period(layer, orientation: str) -> float:
+    """A layer's period along x before it is strained to the box, A: a crystal's cell, or
+    the edge of the block an amorphous film is tiled from."""
+    if layer.structure == "amorphous":
+        return float(si_to_lammps(layer.block.box[0], "length"))
+    return layer.crystal.unit_cell(orientation).cell[0, 0]
+
+
 def elongated_slab(spec: SlabSpec, slab: Slab, length: float) -> Slab:
     """The built ``slab`` of ``spec`` (square in x and y) repeated along x and cut to the
     whole number of common periods nearest ``length`` (m): a period of every layer as it
-    is strained to the box (for a pure substrate, its cell)."""
+    is strained to the box (for a pure substrate, its cell; for an amorphous film, the edge
+    of its block as tiled)."""
     Lx = si_to_lammps(slab.box[0], "length")
-    counts = [max(1, round(Lx / layer.crystal.unit_cell(spec.orientation).cell[0, 0]))
-              for _, layer in spec.layers()]
+    counts = [max(1, round(Lx / _x_period(layer, spec.orientation))) for _, layer in spec.layers()]
     period = Lx / math.gcd(*counts)
     n = max(1, round(si_to_lammps(length, "length") / period))
     atoms = slab.atoms.repeat((math.ceil(n * period / Lx - 1e-9), 1, 1))
@@ -537,6 +545,9 @@ def scratch_input(spec: ScratchSpec, *, record: str = RECORD_FILE, version: str 
         *minimize_lines(ind, seeds["velocity"]),
         *integration_lines(ind, seeds["langevin"]),
         f"run {s.s_load}    # equilibration",
+        # the relaxed, equilibrated sample: the damage reference of an amorphous film, whose
+        # cut surfaces rebond in the minimisation (a crystal's reference is its lattice)
+        f"write_dump all custom {dump_name(s.s_load)} id type x y z c_pe_atom modify sort id",
         "",
         "# ---- the undeformed surface (zero of depth): mean height of the top atomic layer",
         *_indenter_lines(spec, "$(xcm(surface,z):%.12g)", record, control),

@@ -36,8 +36,11 @@ interpolation), ``pileup_height`` the highest height of the profile.
 
 Damage (`md.damage`): the atomic von Mises strain eta_Mises (Shimizu, Ogata & Li 2007, as
 OVITO's atomic strain) of every final atom against its as-built position (the slab written to
-``slab.data``, 0 K; the runs are at 10 K, so thermal strain stays near 0.01), neighbours within
-`damage.shell_cutoff` of the slab's crystals (the largest over its layers). Atoms with
+``slab.data``, 0 K; the runs are at 10 K, so thermal strain stays near 0.01) or, on a slab with
+an amorphous film, against the minimised and equilibrated sample dumped before the approach
+(a film cut from a block rebonds its cut surfaces in the minimisation, which is no damage),
+neighbours within `damage.shell_cutoff` of the slab's crystals or `damage.amorphous_cutoff`
+of its amorphous films (the largest over its layers). Atoms with
 eta_Mises > `damage.THRESHOLD` are damaged; per layer (the layer an atom was built in),
 ``width`` is the y extent and ``depth`` the depth below the as-built surface of the damaged
 atoms in the groove profile's cross-section (within `WINDOW` of mid-stroke x, as built), so
@@ -60,7 +63,7 @@ from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.files import atomic_h5, write_json
 from filmscale.core.jsonable import to_jsonable
 from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
-                                 layer_index, shell_cutoff)
+                                 amorphous_cutoff, layer_index, shell_cutoff)
 from filmscale.md.engine import EngineOptions, LammpsError
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE, derive_seeds
 from filmscale.md.lammps_input import write_input
@@ -125,10 +128,10 @@ def _control(spec: ScratchSpec, run_dir: Path, engine: EngineOptions) -> LoadCon
     or read back from ``elastic/``) and kept in `CONTROL_FILE`."""
     if not spec.stroke.load_controlled:
         return None
-    from filmscale.md.elastic import elastic_constants
+    from filmscale.md.amorphous_run import layer_elastic_constants
     ind = spec.indent
-    top = (ind.slab.films or (ind.slab.substrate,))[0].crystal
-    elastic = elastic_constants(ind.potential, top, run_dir=run_dir / "elastic", engine=engine)
+    top = (ind.slab.films or (ind.slab.substrate,))[0]
+    elastic = layer_elastic_constants(ind.potential, top, run_dir / "elastic", engine)
     control = load_control(spec, elastic.E_star)
     write_json(run_dir / CONTROL_FILE, control.to_dict())
     return control
@@ -369,12 +372,15 @@ def groove_edges(y: np.ndarray, h: np.ndarray, i0: int) -> tuple[float, float]:
     return ends[0], ends[1]
 
 
-def scratch_hardness(normal_force: float, groove_width: float, plastic: bool) -> float:
+def scratch_hardness(normal_force: float, groove_width: float, plastic: bool,
+                     contact_radius: float) -> float:
     """The scratch hardness 8 F_n / (pi w^2), Pa (Williams 1996; ASTM G171 for a spherical
     stylus): the normal force over the front half of a contact as wide as the residual
     groove. NaN unless the groove is plastic (``plastic``: damaged atoms or plastic particles
-    under it) and has a width."""
-    if not plastic or not np.isfinite(groove_width) or groove_width <= 0:
+    under it) and at least as wide as the contact radius at the scratch depth: a narrower
+    "groove" is the surface's roughness or an atom's dip, not a ploughed track, and would put
+    a hardness of its noise."""
+    if not plastic or not np.isfinite(groove_width) or groove_width < contact_radius:
         return math.nan
     return 8 * normal_force / (math.pi * groove_width**2)
 
@@ -384,16 +390,38 @@ def _width(y: np.ndarray, h: np.ndarray, i0: int) -> float:
     return right - left
 
 
+def layer_cutoff(layer) -> float:
+    """The atomic-strain neighbour cutoff of one slab layer, m: between two shells of a
+    crystal, or enclosing `damage.AMORPHOUS_NEIGHBOURS` atoms of an amorphous film."""
+    if layer.structure == "amorphous":
+        return amorphous_cutoff(layer.block.n_atoms / float(np.prod(layer.block.box)))
+    return shell_cutoff(layer.crystal.structure, layer.crystal.a)
+
+
+def damage_reference(run: ScratchRun) -> np.ndarray:
+    """The reference position (m) of each final atom for its atomic strain: as built, or on
+    a slab with an amorphous film the equilibrated sample before the approach (module
+    docstring)."""
+    a = run.final_atoms
+    equilibrated = run.run_dir / dump_name(run.spec.schedule().s_load)
+    if any(layer.structure == "amorphous" for _, layer in run.spec.indent.slab.layers()) \
+            and equilibrated.exists():
+        ref = _read_dump(equilibrated)
+        return np.column_stack([ref["x"], ref["y"], ref["z"]])[np.searchsorted(ref["id"],
+                                                                              a["id"])]
+    return lammps_to_si(run.spec.indent.slab_built.atoms.positions, "length")[a["id"] - 1]
+
+
 def scratch_damage(run: ScratchRun, threshold: float = THRESHOLD
                    ) -> tuple[tuple[LayerDamage, ...], np.ndarray, float]:
     """(per-layer damage, eta_Mises per final atom, cutoff m): see the module docstring."""
     spec = run.spec
     slab = spec.indent.slab_built
     a = run.final_atoms
-    x0 = lammps_to_si(slab.atoms.positions, "length")[a["id"] - 1]
-    x = np.column_stack([a["x"], a["y"], a["z"]])
     layers = spec.indent.slab.layers()
-    cutoff = max(shell_cutoff(layer.crystal.structure, layer.crystal.a) for _, layer in layers)
+    x0 = damage_reference(run)
+    x = np.column_stack([a["x"], a["y"], a["z"]])
+    cutoff = max(layer_cutoff(layer) for _, layer in layers)
     eta = atomic_strain(x0, x, cutoff, box=slab.box)
     Lx = slab.box[0]
     x_mid = spec.x_start + 0.5 * spec.stroke.length
@@ -437,7 +465,8 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
         pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
         damage=damage, eta_mises=eta, damage_cutoff=cutoff,
         scratch_hardness=scratch_hardness(Fn_mean, width, groove > 0 and
-                                          any(d.atoms for d in damage)),
+                                          any(d.atoms for d in damage),
+                                          run.spec.contact_radius),
         passes=scratch_passes(run))
 
 

@@ -97,8 +97,8 @@ def _print_summary(run, analysis, elastic, record: Path, op: dict, plot) -> None
 
 
 def cmd_md_indent(args) -> int:
+    from filmscale.md.amorphous_run import layer_elastic_constants
     from filmscale.md.analysis import analyze_indentation
-    from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.lammps_input import run_dir_for
     from filmscale.md.record import write_record
@@ -124,11 +124,7 @@ def cmd_md_indent(args) -> int:
     finally:
         bar.close()
     top = (spec.slab.films or (spec.slab.substrate,))[0]
-    if top.structure == "amorphous":     # the block it was cut from knows its constants
-        from filmscale.md.amorphous_run import block_elastic_constants
-        elastic = block_elastic_constants(top.block)
-    else:
-        elastic = elastic_constants(spec.potential, top.crystal, run_dir=out / "elastic")
+    elastic = layer_elastic_constants(spec.potential, top, out / "elastic")
     analysis = analyze_indentation(run, elastic)
     record = write_record(run, analysis, elastic, provenance=provenance(
         command="filmscale " + " ".join(sys.argv[1:])))

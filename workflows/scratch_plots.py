@@ -126,8 +126,7 @@ def scratch_figure_data(run, analysis) -> ScratchFigureData:
     stroke (every pass, against the distance slid), the analysis's profile and figures, and
     the atoms of the damage analysis's cross-section with their damaged regions per layer."""
     from filmscale.md.damage import layer_index
-    from filmscale.md.lammps_units import lammps_to_si
-    from filmscale.md.scratch_run import STEADY, WINDOW, stroke_mask
+    from filmscale.md.scratch_run import STEADY, WINDOW, damage_reference, stroke_mask
 
     spec = run.spec
     s = spec.schedule()
@@ -135,7 +134,7 @@ def scratch_figure_data(run, analysis) -> ScratchFigureData:
     on = stroke_mask(run)
     L = spec.stroke.length
     a = run.final_atoms
-    x0 = lammps_to_si(slab.atoms.positions, "length")[a["id"] - 1]
+    x0 = damage_reference(run)
     Lx, Ly = slab.box[:2]
     x_mid = spec.x_start + 0.5 * L
     section = np.abs(_minimum_image(x0[:, 0] - x_mid, Lx)) <= WINDOW

@@ -137,3 +137,31 @@ def test_too_few_neighbours_give_nan_and_a_too_large_cutoff_is_refused():
     x0, box = _lattice((2, 2, 2))
     with pytest.raises(ValueError, match="half the period"):
         atomic_strain(x0, x0, 4.0, box=box)
+
+
+def test_diamond_cutoff_holds_its_first_two_shells():
+    """Between the 2nd (a/sqrt 2, 12 atoms) and 3rd (a sqrt(11)/4, 12 atoms) shells of
+    diamond: 4 + 12 = 16 neighbours, counted by brute force on a periodic 3x3x3 cell."""
+    from ase.build import bulk
+    a = 3.567
+    atoms = bulk("C", "diamond", a=a, cubic=True).repeat(3)
+    cut = shell_cutoff("diamond", a)
+    d = atoms.get_all_distances(mic=True)
+    counts = ((d > 0) & (d < cut)).sum(axis=1)
+    assert np.all(counts == 16)
+    assert a / np.sqrt(2) < cut < a * np.sqrt(11) / 4
+
+
+def test_amorphous_cutoff_holds_fourteen_neighbours_of_a_uniform_gas():
+    """A uniform random gas of the number density of 3 g/cm3 carbon: the sphere of the cutoff
+    holds 14 atoms on average (counted here, within three standard errors)."""
+    from filmscale.md.damage import AMORPHOUS_NEIGHBOURS, amorphous_cutoff
+    n = 3000.0 / (12.011 * 1.66053906660e-27) * 1e-30          # atoms per cubic Angstrom
+    L = (4000 / n) ** (1 / 3)
+    x = np.random.default_rng(5).uniform(0, L, size=(4000, 3))
+    cut = amorphous_cutoff(n)
+    d = x[:500, None, :] - x[None, :, :]
+    d -= L * np.round(d / L)
+    counts = ((np.linalg.norm(d, axis=2) < cut).sum(axis=1) - 1)
+    assert AMORPHOUS_NEIGHBOURS == 14
+    assert abs(counts.mean() - 14) < 3 * counts.std() / np.sqrt(counts.size)

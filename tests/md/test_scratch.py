@@ -236,9 +236,10 @@ def test_ci_scratch_plot(ci_scratch, tmp_path, capsys):
 def test_scratch_hardness_is_williams_and_only_for_plastic_grooves():
     from filmscale.md.scratch_run import scratch_hardness
     # 1 mN on a 2 um wide groove: the front half-disc pi w^2 / 8 = 1.5708 um^2 carries it
-    assert scratch_hardness(1e-3, 2e-6, True) == pytest.approx(1e-3 / (math.pi * 4e-12 / 8))
-    for width, plastic in ((2e-6, False), (0.0, True), (math.nan, True)):
-        assert math.isnan(scratch_hardness(1e-3, width, plastic))
+    a = 1.5e-6                                  # the contact radius at the scratch depth
+    assert scratch_hardness(1e-3, 2e-6, True, a) == pytest.approx(1e-3 / (math.pi * 4e-12 / 8))
+    for width, plastic in ((2e-6, False), (0.0, True), (math.nan, True), (1.4e-6, True)):
+        assert math.isnan(scratch_hardness(1e-3, width, plastic, a))
 
 
 def test_per_pass_figures_on_a_two_pass_record_written_here():

@@ -95,17 +95,20 @@ def test_coarse_bracket_elastic_below_plastic_above(tmp_path):
     assert r.onset_load == pytest.approx(0.5 * (clean.normal_force + plastic.normal_force))
 
 
-# ---- the cross-scale check: the whole sequence on the 0.1 um lattice (LAMMPS, ~3 min) --------
+# ---- the cross-scale check: the whole sequence on the 0.1 um lattice (LAMMPS, ~10 min) -------
 
 #: depths of the sequence, fractions of the Hertz first-yield depth delta_y = a_y^2 / R (20 nm)
-FRACTIONS = (0.6, 0.7, 0.73, 0.765, 0.8, 0.9)
+FRACTIONS = (0.7, 0.765, 0.8, 0.85, 0.9)
 
 
 @pytest.fixture(scope="module")
 def sequence(tmp_path_factory):
-    """5577 particles (a_y = 4 spacings; 12 spacings wide and deep, a 0.8 um stroke), six
-    depths two at a time: about 3 min on this 2-core machine (each run 50-64 s)."""
-    spec = onset_spec(SPACING, 12 * SPACING, 8 * SPACING, 2e-8)
+    """16 245 particles (a_y = 4 spacings; 18 spacings wide and deep, a 0.8 um stroke), five
+    depths two at a time: about 10 min on this 2-core machine (each run 110-220 s). The block
+    is 1.8 um (4.5 a_y): on 1.2 um (3 a_y) its rigid base stiffened the contact against the
+    half-space the model solves (4 % more peak stress per load, an onset 11 % lower;
+    docs/particles.md, "Is the gap numerical?")."""
+    spec = onset_spec(SPACING, 18 * SPACING, 8 * SPACING, 2e-8)
     _, _, delta_y = hertz_first_yield(spec)
     return spec, groove_onset(spec, [f * delta_y for f in FRACTIONS],
                               tmp_path_factory.mktemp("onset"), jobs=2)
@@ -113,14 +116,14 @@ def sequence(tmp_path_factory):
 
 @pytest.mark.slow
 def test_onset_load_measured(sequence):
-    """The measured onset, as it stands (docs/particles.md, "Groove onset"): 0.73 delta_y clean
-    (0.760 P_y of the closed form), 0.765 delta_y yielded (0.824 P_y, 4 particles, eps_p
-    5.5e-4): onset 0.792 +- 0.032 P_y, 0.773 of the model's load (-23 %)."""
+    """The measured onset (docs/particles.md, "Groove onset"): 0.8 delta_y clean (0.789 of
+    the model's load), 0.85 delta_y yielded (0.873, 5 particles, eps_p 6.7e-4): onset
+    0.831 +- 0.042 of the model's load (-17 %), 0.851 of the closed form's (-15 %)."""
     spec, r = sequence
     P_model = model_first_yield_load(spec)
-    assert [p.yielded for p in r.points] == [False, False, False, True, True, True]
+    assert [p.yielded for p in r.points] == [False, False, False, True, True]
     assert all(a.normal_force < b.normal_force for a, b in zip(r.points, r.points[1:]))
-    assert 0.70 < r.onset_load / P_model < 0.85
+    assert 0.78 < r.onset_load / P_model < 0.88
     assert r.onset_error < 0.06 * r.onset_load
     # the residual groove stays under 2 nm (2 % of a spacing) at every depth, clean or
     # yielded: the plastic strain marks the onset, the groove does not
@@ -128,9 +131,10 @@ def test_onset_load_measured(sequence):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 35's 20 %: measured -23 % against the sliding "
-                   "model, -21 % against the closed form (docs/particles.md, Groove onset)")
 def test_onset_load_within_20_percent_of_the_sliding_model(sequence):
+    """Issue 35's cross-scale check: the onset (the midpoint of its bracket) within 20 % of
+    the sliding model's first-yield load and of the closed form's. The bracket's clean end
+    alone is 21 % under the model's: the check passes on the midpoint, not on the bracket."""
     spec, r = sequence
     assert r.onset_load == pytest.approx(model_first_yield_load(spec, 0.0), rel=0.20)
     assert r.onset_load == pytest.approx(closed_form_first_yield_load(SIGMA_Y), rel=0.20)

@@ -119,34 +119,33 @@ def check_soft_film(zone, groove, a):
     assert zone.width < groove, (zone, groove)
 
 
-@pytest.mark.parametrize("case", ["hard film on a softer layer", "soft film on a harder layer"])
-def test_lower_layer_zone_against_the_groove_coarse(tmp_path, case):
-    """R/6 (3 480 and 2 500 particles, about 30 s and 20 s)."""
-    dx = 1e-6 / 6
+CASES = ["hard film on a softer layer", "soft film on a harder layer"]
+
+
+def check_case(tmp_path, case: str, dx: float, hard_planes: int, soft_planes: int):
+    """The hard film (0.15 R deep, 1.75 um block) or the soft one (0.1 R, 1.5 um)."""
     if case.startswith("hard"):
-        zone, groove, a = lower_zone_against_groove(tmp_path, HARD, SOFT, 2 * dx, 1.5e-7,
-                                                    1.75e-6, dx)
+        zone, groove, a = lower_zone_against_groove(tmp_path, HARD, SOFT, hard_planes * dx,
+                                                    1.5e-7, 1.75e-6, dx)
         check_hard_film(zone, groove, a, dx)
     else:
-        zone, groove, a = lower_zone_against_groove(tmp_path, SOFT, HARD, 3 * dx, 1e-7,
-                                                    1.5e-6, dx)
+        zone, groove, a = lower_zone_against_groove(tmp_path, SOFT, HARD, soft_planes * dx,
+                                                    1e-7, 1.5e-6, dx)
         check_soft_film(zone, groove, a)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_lower_layer_zone_against_the_groove_coarse(tmp_path, case):
+    """R/6 (3 480 and 2 500 particles, about 30 s and 20 s)."""
+    check_case(tmp_path, case, 1e-6 / 6, 2, 3)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["hard film on a softer layer", "soft film on a harder layer"])
+@pytest.mark.parametrize("case", CASES)
 def test_lower_layer_zone_against_the_groove_fine(tmp_path, case):
     """R/8 (7 215 and 5 577 particles, about 100 s and 70 s): the hard case is the quick
     preset's target."""
-    dx = 1.25e-7
-    if case.startswith("hard"):
-        zone, groove, a = lower_zone_against_groove(tmp_path, HARD, SOFT, 3 * dx, 1.5e-7,
-                                                    1.75e-6, dx)
-        check_hard_film(zone, groove, a, dx)
-    else:
-        zone, groove, a = lower_zone_against_groove(tmp_path, SOFT, HARD, 4 * dx, 1e-7,
-                                                    1.5e-6, dx)
-        check_soft_film(zone, groove, a)
+    check_case(tmp_path, case, 1.25e-7, 3, 4)
 
 
 def test_cli_refuses_a_layered_tlsph_scratch(tmp_path, capsys):

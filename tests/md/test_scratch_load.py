@@ -100,7 +100,11 @@ def test_load_input_passes_the_checks_and_encodes_the_feedback():
     assert "fix tip_load tip addforce 0.0 0.0 v_f_tip" in text
     assert re.search(r"fix depth_limit all halt \d+ v_depth > 4.5 error hard", text)
     assert "record all print" in text and "fn_target\"" in text
-    assert "write_dump sample custom" in text and "write_dump all" not in text
+    # the dumps hold the sample only: "all" only before the tip atom exists (the
+    # equilibrated sample, the damage reference of an amorphous film)
+    assert "write_dump sample custom" in text
+    assert all(text.index(line) < text.index("create_atoms 1 single")
+               for line in re.findall(r"write_dump all .*", text))
 
 
 @pytest.mark.parametrize("step, moving", [(2000, True), (5000, False)])

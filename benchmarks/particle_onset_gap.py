@@ -70,7 +70,8 @@ from filmscale.md.particle_run import run_particle_input
 from filmscale.md.particle_scratch import (FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            _roller_lines, estimated_steps, scratch_input,
                                            spec_from_mapping)
-from filmscale.md.particle_scratch_run import STEADY, analyze_scratch, read_scratch
+from filmscale.md.particle_scratch_run import analyze_scratch, read_scratch
+from filmscale.md.scratch_run import STEADY
 from filmscale.md.scratch_onset import (ONSET_THRESHOLD, at_depth, hertz_first_yield,
                                         model_first_yield_load)
 

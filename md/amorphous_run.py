@@ -465,14 +465,13 @@ def block_elastic_constants(block: AmorphousBlock) -> ElasticConstants:
     crystal's: its record's C (the block's own, `block_elastic`), the recipe's strain and
     their Hill average; what an indentation of the film compares its Hertz fit with."""
     import h5py
-    summary = read_amorphous_summary(block.source)
-    with h5py.File(block.source, "r") as f:
-        strain = json.loads(f["inputs/recipe.json"][()])["strain"]
-    C = np.asarray(summary["C"], float)
+    with h5py.File(block.source, "r") as f:     # a record: read_block checked its format
+        C = np.asarray(json.loads(f.attrs["C"]), float)
+        fit_rms = float(f.attrs["fit_rms"])
+        strain = float(json.loads(f["inputs/recipe.json"][()])["strain"])
     return ElasticConstants(potential=block.potential, element=block.element,
                             structure="amorphous", C=C, cell=tuple(float(x) for x in block.box),
-                            strain=float(strain), fit_rms=float(summary["fit_rms"]),
-                            average=voigt_reuss_hill(C))
+                            strain=strain, fit_rms=fit_rms, average=voigt_reuss_hill(C))
 
 
 def layer_elastic_constants(potential, layer, run_dir: Path | str,

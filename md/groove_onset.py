@@ -7,7 +7,7 @@ lateral_size square), sphere and protocol as an indentation to a depth; `calibra
 calibrates it as the package calibrates a scene's ``md`` source
 (`continuum.calibration.route.calibrate`, rigid tip, depth zero fitted; with a pop-in, the
 pop-in law: E* from Hertz below half the pop-in load, and the pop-in's peak Hertz shear
-stress tau_c = 0.31 p0 with that E*). `hertz_first_yield_load` is the Hertz load at which
+stress tau_c = 0.31 p0 with that E*). `continuum.contact.hertz.load_at_peak_pressure` is the Hertz load at which
 the peak pressure reaches p0: pi^3 R^2 p0^3 / (6 E*^2) (p0 = tau_c / 0.31 for the pop-in,
 1.6 sigma_y for a von Mises sigma_y at nu = 0.3).
 
@@ -70,7 +70,8 @@ class FilmYield:
     @property
     def P_y(self) -> float:
         """The Hertz first-yield load from tau_c (N)."""
-        return hertz_first_yield_load(self.E_star, self.R, self.tau_c / SHEAR_OVER_P0)
+        from filmscale.continuum.contact.hertz import load_at_peak_pressure
+        return float(load_at_peak_pressure(self.tau_c / SHEAR_OVER_P0, self.R, self.E_star))
 
     def to_dict(self) -> dict:
         return {**dataclasses.asdict(self), "P_y": self.P_y}
@@ -86,11 +87,6 @@ def calibrate_twin(curve, R: float, nu: float = 0.3) -> FilmYield:
     E_star = cal.E.value / (1.0 - nu**2)      # rigid tip: E = E* (1 - nu^2)
     return FilmYield(E_star, cal.pop_in["shear_stress"], cal.pop_in["load"],
                      cal.sigma_y.value, bool(cal.sigma_y.identified), R)
-
-
-def hertz_first_yield_load(E_star: float, R: float, p0: float) -> float:
-    """Hertz load (N) at peak pressure ``p0`` (Pa) under a sphere of radius ``R`` (m)."""
-    return math.pi**3 * R**2 * p0**3 / (6.0 * E_star**2)
 
 
 def at_load(spec: ScratchSpec, load: float, max_depth: float) -> ScratchSpec:

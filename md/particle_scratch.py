@@ -45,7 +45,8 @@ from filmscale.md.particle_inputs import (CFL, K_FACTOR, TLSPH_KERNEL, lammps_nu
                                           lammps_quantity, smd_preamble, tlsph_material)
 from filmscale.md.particle_spec import target_from_table
 from filmscale.md.particle_inputs import layer_lines
-from filmscale.md.particles import MIN_RADIUS_SPACINGS, ParticleTarget, contact_radius
+from filmscale.md.particles import (MIN_RADIUS_SPACINGS, ParticleTarget, check_block,
+                                    contact_radius)
 from filmscale.md.ulsph_inputs import ULSPH_SETTINGS, ulsph_material
 from filmscale.potentials.lammps_words import check_name, shown
 
@@ -78,12 +79,7 @@ class ScratchGrid:
     length: float = 0.0
 
     def __post_init__(self):
-        dx = _length("grid.spacing", self.spacing)
-        for name in ("width", "depth"):
-            value = _length(f"grid.{name}", getattr(self, name))
-            if value < 4 * dx:
-                raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
-                                 f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
+        check_block(self.spacing, self.width, self.depth)
         if not isinstance(self.half, bool):
             raise InputError(f"grid.half = {shown(self.half)} is not true or false")
 

@@ -6,7 +6,7 @@ relaxation), and ``state.json``; a directory whose run finished with the same in
 back without LAMMPS (MACHDYN writes no restart files: an interrupted run starts again).
 
 Friction, as `md scratch` (`filmscale.md.scratch_run`): over the steady part of the first
-pass, the tip's x between `STEADY` 20 % and 80 % of the stroke length, mu_i = F_lat,i / F_n,i
+pass, the tip's x between `scratch_run.STEADY` 20 % and 80 % of the stroke length, mu_i = F_lat,i / F_n,i
 at every recorded point; ``friction_mean``, ``friction_std`` their mean and standard
 deviation, ``normal_force_mean``, ``lateral_force_mean`` the mean forces there (N).
 
@@ -39,12 +39,12 @@ from filmscale.core.jsonable import to_jsonable
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table
 from filmscale.md.lammps_units import lammps_to_si
 from filmscale.md.particle_run import FieldSnapshot, read_snapshot, run_particle_input
-from filmscale.md.scratch_run import PassFigures, groove_edges, pass_figures, scratch_hardness
+from filmscale.md.scratch_run import (PassFigures, groove_depth_width, pass_figures,
+                                      scratch_hardness)
 from filmscale.md.particle_scratch import (COLUMNS, FINAL_DUMP, RECORD, ParticleScratchSpec,
                                            estimated_steps, path_direction, scratch_input)
 
 STATE_FILE = "state.json"
-STEADY = (0.2, 0.8)           #: the steady part of a pass, fractions of its length
 PLASTIC_THRESHOLD = 1e-3      #: equivalent plastic strain that marks the plastic zone
 #: the figures of `particles scratch --json` (SI), those of `md scratch --json`
 JSON_KEYS = ("friction_mean", "friction_std", "normal_force_mean", "lateral_force_mean",
@@ -172,15 +172,6 @@ class ParticleScratchAnalysis:
         return "\n".join(lines)
 
 
-def steady_mask(run: ParticleScratchRun) -> np.ndarray:
-    """The recorded points of the first pass with the tip between `STEADY` of its length."""
-    s = run.spec.stroke
-    t1, T, _, _ = s.times
-    L = s.length
-    first = (run.time > t1) & (run.time <= t1 + T)
-    return first & (run.x_tip >= STEADY[0] * L) & (run.x_tip <= STEADY[1] * L)
-
-
 def particle_passes(run: ParticleScratchRun) -> tuple[PassFigures, ...]:
     """The friction and forces over the steady part of every pass."""
     s = run.spec.stroke
@@ -249,37 +240,26 @@ def plastic_zones(run: ParticleScratchRun,
 def analyze_scratch(run: ParticleScratchRun) -> ParticleScratchAnalysis:
     """Friction over the steady stroke, the residual groove and the plastic zone (module
     docstring)."""
-    steady = steady_mask(run)
-    Fn, Fl = run.fz[steady], run.lateral_force[steady]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        mu = Fl / Fn
-    mu = mu[np.isfinite(mu)]
+    passes = particle_passes(run)
+    first = passes[0]                  # the steady stroke: the first pass's steady part
     nan = math.nan
     y, h = groove_profile(run)
     a = run.spec.contact_radius
-    inside = np.abs(y) <= a
-    depth = width = nan
-    if np.any(inside):
-        i0 = int(np.flatnonzero(inside)[np.argmin(h[inside])])
-        depth = float(-h[i0])
-        left, right = groove_edges(y, h, i0)
-        width = right - left if h[i0] < 0 else 0.0
+    depth, width = groove_depth_width(y, h, a)
     far = np.abs(y) > 2 * a
     zones = plastic_zones(run)
-    Fn_mean = float(Fn.mean()) if Fn.size else nan
     return ParticleScratchAnalysis(
-        friction_mean=float(mu.mean()) if mu.size else nan,
-        friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
-        normal_force_mean=Fn_mean,
-        lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
-        steady_points=int(steady.sum()), groove_depth=depth, groove_width=width,
+        friction_mean=first.friction_mean, friction_std=first.friction_std,
+        normal_force_mean=first.normal_force_mean,
+        lateral_force_mean=first.lateral_force_mean, steady_points=first.points,
+        groove_depth=depth, groove_width=width,
         pileup_height=float(np.max(h)) if h.size else nan,
         edge_height=float(np.mean(h[far])) if np.any(far) else nan,
         profile_y=y, profile_h=h, damage=zones,
         particles=run.spec.grid.n_particles, steps=run.steps, wall_time=run.wall_time,
-        scratch_hardness=scratch_hardness(Fn_mean, width, depth > 0 and
+        scratch_hardness=scratch_hardness(first.normal_force_mean, width, depth > 0 and
                                           any(z.particles for z in zones), a),
-        passes=particle_passes(run))
+        passes=passes)
 
 
 # ---- record -----------------------------------------------------------------------------------

@@ -50,6 +50,17 @@ def _length(name: str, value) -> float:
     return check_real(name, value, low=1e-10, high=1e-1, low_open=False, unit="m")
 
 
+def check_block(spacing, width, depth) -> None:
+    """A particle block's lattice spacing, and its width and depth of at least 4 spacings
+    (InputError naming the ``grid.`` key otherwise)."""
+    dx = _length("grid.spacing", spacing)
+    for name, value in (("width", width), ("depth", depth)):
+        value = _length(f"grid.{name}", value)
+        if value < 4 * dx:
+            raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
+                             f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
+
+
 @dataclass(frozen=True)
 class ParticleMaterial:
     """A material of a particle model: the continuum package's `ElasticPlastic` and a mass
@@ -144,12 +155,7 @@ class Grid:
     half: bool = False
 
     def __post_init__(self):
-        dx = _length("grid.spacing", self.spacing)
-        for name in ("width", "depth"):
-            value = _length(f"grid.{name}", getattr(self, name))
-            if value < 4 * dx:
-                raise InputError(f"grid.{name} = {value:g} m is under 4 spacings "
-                                 f"({4 * dx:g} m); valid: >= 4 * grid.spacing")
+        check_block(self.spacing, self.width, self.depth)
         object.__setattr__(self, "quarter", bool(self.quarter))
         object.__setattr__(self, "half", bool(self.half))
         if self.quarter and self.half:

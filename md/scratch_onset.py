@@ -31,7 +31,8 @@ import numpy as np
 from filmscale.core.errors import InputError
 from filmscale.md.engine import EngineOptions
 from filmscale.md.particle_scratch import ParticleScratchSpec
-from filmscale.md.particle_scratch_run import STEADY, analyze_scratch, run_scratch
+from filmscale.md.particle_scratch_run import analyze_scratch, run_scratch
+from filmscale.md.scratch_run import STEADY
 
 #: equivalent plastic strain above which a particle has yielded (the onset criterion)
 ONSET_THRESHOLD = 1e-4
@@ -137,8 +138,9 @@ def hertz_first_yield(spec: ParticleScratchSpec, p0_over_sigma_y: float = 1.6
     """(P_y, a_y, delta_y), SI: the Hertz load, contact radius and depth at which the peak
     pressure reaches ``p0_over_sigma_y`` sigma_y (1.6: a frictionless sphere, nu = 0.3,
     von Mises; Johnson 1985)."""
+    from filmscale.continuum.contact.hertz import load_at_peak_pressure
     E_star = spec.target.reduced_modulus()
     R = spec.tip.R
     p0 = p0_over_sigma_y * spec.target.substrate.material.sigma_y
     a = math.pi * p0 * R / (2 * E_star)
-    return 4 * E_star * a**3 / (3 * R), a, a * a / R
+    return float(load_at_peak_pressure(p0, R, E_star)), a, a * a / R

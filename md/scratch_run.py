@@ -372,6 +372,15 @@ def groove_edges(y: np.ndarray, h: np.ndarray, i0: int) -> tuple[float, float]:
     return ends[0], ends[1]
 
 
+def scratch_json(analysis, keys: tuple[str, ...]) -> dict:
+    """The figures `--json` prints of an MD or particle scratch analysis: ``keys``, the
+    damaged or plastic region per layer (layer, width, depth) and the figures of each pass."""
+    return {**{k: getattr(analysis, k) for k in keys},
+            "damage": [{"layer": d.layer, "width": d.width, "depth": d.depth}
+                       for d in analysis.damage],
+            "passes": [x.to_dict() for x in analysis.passes]}
+
+
 def scratch_hardness(normal_force: float, groove_width: float, plastic: bool,
                      contact_radius: float) -> float:
     """The scratch hardness 8 F_n / (pi w^2), Pa (Williams 1996; ASTM G171 for a spherical
@@ -385,9 +394,27 @@ def scratch_hardness(normal_force: float, groove_width: float, plastic: bool,
     return 8 * normal_force / (math.pi * groove_width**2)
 
 
-def _width(y: np.ndarray, h: np.ndarray, i0: int) -> float:
+def groove_bottom(y: np.ndarray, h: np.ndarray, contact_radius: float) -> int | None:
+    """Index of the profile's lowest finite point within ``contact_radius`` of the groove
+    axis; None where there is none."""
+    inside = (np.abs(y) <= contact_radius) & np.isfinite(h)
+    if not np.any(inside):
+        return None
+    return int(np.flatnonzero(inside)[np.argmin(h[inside])])
+
+
+def groove_depth_width(y: np.ndarray, h: np.ndarray,
+                       contact_radius: float) -> tuple[float, float]:
+    """(depth, width) of a groove profile h(y), m: minus its lowest height within the contact
+    radius, and the distance between the zero crossings either side of it (0 when that point
+    is not below zero); NaN and NaN without a point there."""
+    i0 = groove_bottom(y, h, contact_radius)
+    if i0 is None:
+        return math.nan, math.nan
+    if h[i0] >= 0:
+        return float(-h[i0]), 0.0
     left, right = groove_edges(y, h, i0)
-    return right - left
+    return float(-h[i0]), right - left
 
 
 def layer_cutoff(layer) -> float:
@@ -436,38 +463,29 @@ def analyze_scratch(run: ScratchRun) -> ScratchAnalysis:
     """Friction over the steady stroke, the residual groove and the sub-surface damage (see
     the module docstring)."""
     steady = steady_mask(run)
-    Fn, Fl = run.normal_force[steady], run.lateral_force[steady]
     depth = run.data["depth"][steady]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        mu = Fl / Fn
-    mu = mu[np.isfinite(mu)]
+    passes = scratch_passes(run)
+    first = passes[0]                  # the steady stroke: the first pass's steady part
     nan = math.nan
     y, h, edge = groove_profile(run)
     damage, eta, cutoff = scratch_damage(run)
-    inside = np.abs(y) <= run.spec.contact_radius
-    groove = width = nan
-    if np.any(inside & np.isfinite(h)):
-        i0 = int(np.flatnonzero(inside)[np.nanargmin(h[inside])])
-        groove = float(-h[i0])
-        width = _width(y, h, i0) if h[i0] < 0 else 0.0
+    groove, width = groove_depth_width(y, h, run.spec.contact_radius)
     target = run.spec.stroke.normal_load
-    Fn_mean = float(Fn.mean()) if Fn.size else nan
     return ScratchAnalysis(
-        friction_mean=float(mu.mean()) if mu.size else nan,
-        friction_std=float(mu.std(ddof=1)) if mu.size > 1 else nan,
-        normal_force_mean=Fn_mean,
-        lateral_force_mean=float(Fl.mean()) if Fl.size else nan,
-        steady_points=int(steady.sum()), normal_force_sem=block_sem(Fn),
+        friction_mean=first.friction_mean, friction_std=first.friction_std,
+        normal_force_mean=first.normal_force_mean,
+        lateral_force_mean=first.lateral_force_mean, steady_points=first.points,
+        normal_force_sem=block_sem(run.normal_force[steady]),
         normal_load=nan if target is None else target,
         depth_mean=float(depth.mean()) if depth.size else nan,
         depth_std=float(depth.std(ddof=1)) if depth.size > 1 else nan,
         groove_depth=groove, groove_width=width,
         pileup_height=float(np.nanmax(h)), edge_height=edge, profile_y=y, profile_h=h,
         damage=damage, eta_mises=eta, damage_cutoff=cutoff,
-        scratch_hardness=scratch_hardness(Fn_mean, width, groove > 0 and
+        scratch_hardness=scratch_hardness(first.normal_force_mean, width, groove > 0 and
                                           any(d.atoms for d in damage),
                                           run.spec.contact_radius),
-        passes=scratch_passes(run))
+        passes=passes)
 
 
 def stroke_mask(run: ScratchRun) -> np.ndarray:

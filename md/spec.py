@@ -44,7 +44,6 @@ from filmscale.core.checks import check_keys, check_path, check_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.md.amorphous_film import DEFAULT_GAP, AmorphousLayer
-from filmscale.md.amorphous_run import read_block
 from filmscale.md.indentation import IndentProtocol, IndentSpec, RigidIndenter
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec
 from filmscale.potentials import Potential
@@ -114,6 +113,7 @@ def _film(where: str, table: dict, potential: Potential, base_dir: Path | None):
     if not isinstance(block, str):
         raise InputError(f"{where}.block = {shown(block)} must be the path of an "
                          "amorphous-block record")
+    from filmscale.md.amorphous_run import read_block    # h5py and scipy only for a film
     path = Path(block) if base_dir is None else Path(base_dir) / block
     return AmorphousLayer(read_block(path), required(where, table, "thickness"),
                           table.get("gap", DEFAULT_GAP))

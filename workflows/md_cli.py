@@ -116,13 +116,10 @@ def cmd_md_indent(args) -> int:
               f"{engine.to_dict()['mode']} with {args.np} rank(s); run directory {out}",
               file=sys.stderr)
 
-    from filmscale.workflows.progress import progress_bar, step_callback
-    total = spec.protocol.schedule().s_end
-    bar = progress_bar(total, "step", spec.name)
-    try:
-        run = run_indentation(spec, out, engine, progress=step_callback(bar, total))
-    finally:
-        bar.close()
+    from filmscale.workflows.progress import with_step_progress
+    run = with_step_progress(spec.protocol.schedule().s_end, spec.name,
+                             lambda progress: run_indentation(spec, out, engine,
+                                                              progress=progress))
     top = (spec.slab.films or (spec.slab.substrate,))[0]
     elastic = layer_elastic_constants(spec.potential, top, out / "elastic")
     analysis = analyze_indentation(run, elastic)
@@ -178,8 +175,9 @@ def _print_scratch(run, a, record: Path, plot=None) -> None:
 def cmd_md_scratch(args) -> int:
     from filmscale.md.engine import EngineOptions
     from filmscale.md.lammps_input import run_dir_for
-    from filmscale.md.scratch_run import analyze_scratch, run_scratch, write_scratch_record
-    from filmscale.workflows.progress import progress_bar, step_callback
+    from filmscale.md.scratch_run import (analyze_scratch, run_scratch, scratch_json,
+                                          write_scratch_record)
+    from filmscale.workflows.progress import with_step_progress
 
     spec = _scratch_spec(args)
     engine = EngineOptions(np=args.np, omp_threads=args.omp)
@@ -191,11 +189,8 @@ def cmd_md_scratch(args) -> int:
     if not args.json:
         print(f"{spec.name}: {spec.indent.slab_built.n_atoms} atoms, {total} steps, "
               f"{args.np} rank(s); run directory {out}", file=sys.stderr)
-    bar = progress_bar(total, "step", spec.name)
-    try:
-        run = run_scratch(spec, out, engine, progress=step_callback(bar, total))
-    finally:
-        bar.close()
+    run = with_step_progress(total, spec.name,
+                             lambda progress: run_scratch(spec, out, engine, progress=progress))
     analysis = analyze_scratch(run)
     record = write_scratch_record(run, analysis, provenance=provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
@@ -203,11 +198,7 @@ def cmd_md_scratch(args) -> int:
         from filmscale.workflows.scratch_plots import plot_scratch, scratch_figure_data
         plot_scratch(scratch_figure_data(run, analysis), args.plot)
     if args.json:
-        figures = {k: getattr(analysis, k) for k in SCRATCH_KEYS}
-        figures["damage"] = [{"layer": d.layer, "width": d.width, "depth": d.depth}
-                             for d in analysis.damage]
-        figures["passes"] = [x.to_dict() for x in analysis.passes]
-        print(dumps({**figures, "n_atoms": run.n_atoms, "n_steps": run.n_steps,
+        print(dumps({**scratch_json(analysis, SCRATCH_KEYS), "n_atoms": run.n_atoms, "n_steps": run.n_steps,
                      "wall_time": run.wall_time, "result": str(record), "plot": args.plot}))
     else:
         _print_scratch(run, analysis, record, args.plot)
@@ -237,7 +228,7 @@ def _amorphous_unit(recipe, store: Path, engine, args) -> tuple[Path, bool]:
     """The unit of ``recipe`` in ``store``: made (LAMMPS, with progress) or reused."""
     from filmscale.md.amorphous_run import (RECORD_NAME, analyze_amorphous, run_amorphous,
                                             write_amorphous_record)
-    from filmscale.workflows.progress import progress_bar, step_callback
+    from filmscale.workflows.progress import with_step_progress
     from filmscale.workflows.store import (done_record, finish_unit, own_folder, unit_dir,
                                            unit_lock)
 
@@ -249,12 +240,8 @@ def _amorphous_unit(recipe, store: Path, engine, args) -> tuple[Path, bool]:
             if not args.json:
                 print(f"{recipe.name} (seed {recipe.seed}): {recipe.n_atoms} atoms, {total} "
                       f"steps, {args.np} rank(s); unit {unit}", file=sys.stderr)
-            bar = progress_bar(total, "step", recipe.name)
-            try:
-                run = run_amorphous(recipe, own_folder(unit), engine,
-                                    progress=step_callback(bar, total))
-            finally:
-                bar.close()
+            run = with_step_progress(total, recipe.name, lambda progress: run_amorphous(
+                recipe, own_folder(unit), engine, progress=progress))
             write_amorphous_record(run, analyze_amorphous(run), provenance=provenance(
                 command="filmscale " + " ".join(sys.argv[1:])))
             finish_unit(unit, {"kind": "md-amorphous", "wall_time": run.wall_time},

@@ -44,12 +44,9 @@ def cmd_particles(args) -> int:
         print(f"{spec.name}: {spec.method}, {spec.grid.n_particles} particles, about {total} "
               f"steps, {args.np} rank(s); run directory {out}", file=sys.stderr)
 
-    from filmscale.workflows.progress import progress_bar, step_callback
-    bar = progress_bar(total, "step", spec.name)
-    try:
-        run = run_particles(spec, out, engine, progress=step_callback(bar, total))
-    finally:
-        bar.close()
+    from filmscale.workflows.progress import with_step_progress
+    run = with_step_progress(total, spec.name,
+                             lambda progress: run_particles(spec, out, engine, progress=progress))
     result = analyze_impact(run) if args.kind == "impact" else analyze_indent(run)
     record = write_particle_record(run, result, provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
@@ -71,7 +68,8 @@ def cmd_particles_scratch(args) -> int:
     from filmscale.md.particle_scratch import estimated_steps, load_spec, preset
     from filmscale.md.particle_scratch_run import (JSON_KEYS, analyze_scratch, run_scratch,
                                                    write_scratch_record)
-    from filmscale.workflows.progress import progress_bar, step_callback
+    from filmscale.md.scratch_run import scratch_json
+    from filmscale.workflows.progress import with_step_progress
 
     if (args.spec is None) == (args.preset is None):
         raise InputError("give a spec file or --preset NAME (one of them)")
@@ -86,11 +84,8 @@ def cmd_particles_scratch(args) -> int:
     if not args.json:
         print(f"{spec.name}: {spec.method} scratch, {spec.grid.n_particles} particles, about "
               f"{total} steps, {args.np} rank(s); run directory {out}", file=sys.stderr)
-    bar = progress_bar(total, "step", spec.name)
-    try:
-        run = run_scratch(spec, out, engine, progress=step_callback(bar, total))
-    finally:
-        bar.close()
+    run = with_step_progress(total, spec.name,
+                             lambda progress: run_scratch(spec, out, engine, progress=progress))
     analysis = analyze_scratch(run)
     record = write_scratch_record(run, analysis, provenance(
         command="filmscale " + " ".join(sys.argv[1:])))
@@ -98,11 +93,7 @@ def cmd_particles_scratch(args) -> int:
         from filmscale.workflows.scratch_plots import particle_scratch_figure_data, plot_scratch
         plot_scratch(particle_scratch_figure_data(run, analysis), args.plot)
     if args.json:
-        figures = {k: getattr(analysis, k) for k in JSON_KEYS}
-        figures["damage"] = [{"layer": z.layer, "width": z.width, "depth": z.depth}
-                             for z in analysis.damage]
-        figures["passes"] = [x.to_dict() for x in analysis.passes]
-        print(dumps({**figures, "particles": analysis.particles, "steps": analysis.steps,
+        print(dumps({**scratch_json(analysis, JSON_KEYS), "particles": analysis.particles, "steps": analysis.steps,
                      "wall_time": analysis.wall_time, "result": str(record),
                      "plot": args.plot}))
     else:

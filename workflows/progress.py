@@ -83,6 +83,16 @@ def step_callback(bar, total: int):
     return lambda step, _total: bar.update(max(0, min(step, total) - bar.n))
 
 
+def with_step_progress(total: int, label: str, work):
+    """``work(progress)`` under a bar of ``total`` steps, ``progress`` the engines'
+    ``(step, total)`` callback; the bar is closed however the work ends."""
+    bar = progress_bar(total, "step", label)
+    try:
+        return work(step_callback(bar, total))
+    finally:
+        bar.close()
+
+
 def count_callback(bar):
     """The ``progress(done, total)`` callback of the maps, moving ``bar`` to ``done`` of the
     ``total`` the map reports (its points, or those in the model's range)."""

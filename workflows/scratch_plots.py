@@ -110,11 +110,12 @@ def groove_edges(y: np.ndarray, h: np.ndarray, contact_radius: float) -> tuple[f
     """The y either side of the groove's lowest point (within ``contact_radius`` of the axis)
     where the profile first rises through zero, as `scratch_run` measures the groove width;
     NaN where there is none."""
+    from filmscale.md.scratch_run import groove_bottom
     from filmscale.md.scratch_run import groove_edges as edges_from
-    inside = (np.abs(y) <= contact_radius) & np.isfinite(h)
-    if not np.any(inside) or np.nanmin(h[inside]) >= 0:
+    i0 = groove_bottom(y, h, contact_radius)
+    if i0 is None or h[i0] >= 0:
         return math.nan, math.nan
-    return edges_from(y, h, int(np.flatnonzero(inside)[np.argmin(h[inside])]))
+    return edges_from(y, h, i0)
 
 
 def _minimum_image(d: np.ndarray, period: float) -> np.ndarray:
@@ -179,7 +180,8 @@ def particle_scratch_figure_data(run, analysis) -> ScratchFigureData:
     the stroke against the distance slid, the groove profile, and the particles of the
     mid-stroke lattice column (mirrored in a half model) coloured by their equivalent plastic
     strain, each layer's plastic zone boxed (as `plastic_zones` measures it)."""
-    from filmscale.md.particle_scratch_run import STEADY, mid_section
+    from filmscale.md.particle_scratch_run import mid_section
+    from filmscale.md.scratch_run import STEADY
 
     spec = run.spec
     t1, _, tu, _ = spec.stroke.times

@@ -19,17 +19,12 @@ from filmscale.continuum.calibration.result import Calibration
 from filmscale.continuum.calibration.route import calibrate, sharp_tip_of, tip_counterpart
 from filmscale.core.files import atomic_path
 from filmscale.workflows.plan import Plan, chosen_model
-from filmscale.workflows.progress import progress_bar, step_callback
+from filmscale.workflows.progress import with_step_progress
 from filmscale.workflows.result import SLIDE_LAYER_UNITS
 from filmscale.workflows.scene import Scene
 from filmscale.workflows.pipeline_scene import CalibrationSource
 from filmscale.workflows.store import (CURVE_ARRAYS, MD_RECORD, done_record, finish_unit,
                                        own_folder, say, stream_digest, unit_dir, unit_lock)
-
-def _progress_bar(total: int, label: str):
-    bar = progress_bar(total, "step", label)
-    return bar, step_callback(bar, total)
-
 
 def run_md(spec, path: Path, ranks: int):
     """The MD indentation, and the potential's own elastic constants of the film and of the
@@ -43,11 +38,9 @@ def run_md(spec, path: Path, ranks: int):
     from filmscale.md.record import RECORD_NAME, run_provenance, write_record
     from filmscale.md.run import run_indentation
     from filmscale.md.structures import surface_normal
-    bar, progress = _progress_bar(spec.protocol.schedule().s_end, f"{path.name} (MD)")
-    try:
-        run = run_indentation(spec, path, EngineOptions(np=ranks), progress=progress)
-    finally:
-        bar.close()
+    run = with_step_progress(spec.protocol.schedule().s_end, f"{path.name} (MD)",
+                             lambda progress: run_indentation(spec, path, EngineOptions(np=ranks),
+                                                              progress=progress))
     record = {"wall_time": run.wall_time, **run_provenance(run)}
     layers = {"top": (spec.slab.films or (spec.slab.substrate,))[0]}
     if spec.slab.films:
@@ -75,12 +68,10 @@ def run_particle_model(spec, path: Path, ranks: int):
     from filmscale.md.engine import EngineOptions, lammps_info
     from filmscale.md.particle_inputs import estimated_steps
     from filmscale.md.particle_run import run_particles
-    bar, progress = _progress_bar(estimated_steps(spec), f"{path.name} (particles)")
-    try:
-        run = run_particles(spec, path, EngineOptions(np=ranks, omp_threads=1),
-                            progress=progress)
-    finally:
-        bar.close()
+    run = with_step_progress(estimated_steps(spec), f"{path.name} (particles)",
+                             lambda progress: run_particles(
+                                 spec, path, EngineOptions(np=ranks, omp_threads=1),
+                                 progress=progress))
     return run.curve(), {"wall_time": run.wall_time, "steps": run.steps,
                          "particles": spec.grid.n_particles, "method": spec.method,
                          **lammps_info()}

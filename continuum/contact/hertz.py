@@ -34,6 +34,7 @@ _RANGES = {
     "V": (0.0, math.inf, True, True, "m/s"),
     "V_y": (0.0, math.inf, False, False, "m/s"),      # inf: never yields
     "p_d": (0.0, math.inf, True, True, "Pa"),
+    "p0": (0.0, math.inf, True, True, "Pa"),
 }
 
 
@@ -140,13 +141,24 @@ class FirstYield:
     max_pressure: np.ndarray    #: p0 at yield = C(nu) sigma_Y, Pa
 
 
+def load_at_peak_pressure_unchecked(p0, R, E_star):
+    """`load_at_peak_pressure` without its input checks."""
+    return (np.pi**3 / 6.0) * p0**3 * np.square(R) / np.square(E_star)
+
+
+def load_at_peak_pressure(p0, R, E_star):
+    """P = (pi^3/6) p0^3 R^2 / E*^2 (N): the Hertz load under a sphere of radius R (m) on a
+    reduced modulus E* (Pa) at which the peak pressure is p0 (Pa); the contact radius there
+    is a = pi p0 R / (2 E*) (Johnson 1985, ch. 4; docs/physics.md section 2)."""
+    return load_at_peak_pressure_unchecked(*checked(p0=p0, R=R, E_star=E_star))
+
+
 def first_yield_unchecked(R, E_star, sigma_y, nu) -> FirstYield:
     """`first_yield` without its input checks."""
     p0 = pressure_factor_unchecked(nu) * sigma_y
     a_y = np.pi * p0 * R / (2.0 * E_star)
     return FirstYield(approach=a_y**2 / R, contact_radius=a_y,
-                      force=(np.pi**3 / 6.0) * p0**3 * np.square(R) / np.square(E_star),
-                      max_pressure=p0)
+                      force=load_at_peak_pressure_unchecked(p0, R, E_star), max_pressure=p0)
 
 
 def first_yield(R, E_star, sigma_y, nu) -> FirstYield:

@@ -580,18 +580,23 @@ class ScratchFriction:
 
 def read_scratch_friction(path, name: str = "scratch record") -> ScratchFriction:
     """The friction of the scratch record ``path`` (the scratch.h5 of `filmscale md
-    scratch`); InputError naming ``name`` for a file that is not one."""
+    scratch` or the particle_scratch.h5 of `filmscale particles scratch`: both keep it in
+    ``analysis``); InputError naming ``name`` for a file that is not one."""
     import h5py
+
+    from filmscale.md.particle_scratch_run import RECORD_FORMAT as PARTICLE_FORMAT
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{name} = {str(path)!r} is not a file (give the scratch.h5 of "
-                         "`filmscale md scratch`)")
+                         "`filmscale md scratch` or the particle_scratch.h5 of `filmscale "
+                         "particles scratch`)")
     try:
         with h5py.File(path, "r") as f:
             fmt = f.attrs.get("format", "")
-            if fmt != RECORD_FORMAT:
+            if fmt not in (RECORD_FORMAT, PARTICLE_FORMAT):
                 raise InputError(f"{name} = {str(path)!r} is not a scratch record (format "
-                                 f"{fmt or 'none'!r}, expected {RECORD_FORMAT!r})")
+                                 f"{fmt or 'none'!r}, expected {RECORD_FORMAT!r} or "
+                                 f"{PARTICLE_FORMAT!r})")
             a = f["analysis"].attrs
             out = ScratchFriction(float(a["friction_mean"]), float(a["friction_std"]),
                                   int(a["steady_points"]))

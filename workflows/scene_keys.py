@@ -98,7 +98,7 @@ GENERAL_KEYS: dict[str, tuple[Key, ...]] = {
             "[slider] instead of [impactor]: a sphere (the flying-height bump, a corner) or a "
             "cylinder of length `length` (an edge, plane strain); the friction is `[contact] "
             "friction`, or `[contact] friction_from = \"scratch.h5\"`: the friction a "
-            "scratch record of `filmscale md scratch` measured"),
+            "scratch record of `filmscale md scratch` or `particles scratch` measured"),
         Key("radius", "m", REQUIRED, 1e-12, 1.0, low_open=True, section="slider",
             doc="the protrusion's radius R"),
         Key("normal_load", "N", REQUIRED, 0.0, 1e6, low_open=True, section="slider",

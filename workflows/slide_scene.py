@@ -27,8 +27,9 @@ from .scene_keys import key_names, quantity_units, section_keys
 FRICTION = Key("friction", "1", 0.0, 0.0, 10.0, section="contact",
                doc="Coulomb coefficient mu of the sliding contact (q = mu p)")
 FRICTION_FROM = Key("friction_from", section="contact", valid="path",
-                    doc="a scratch record (the scratch.h5 of `filmscale md scratch`), relative "
-                    "to the scene: its friction over the steady stroke is the contact's")
+                    doc="a scratch record (the scratch.h5 of `filmscale md scratch` or the "
+                    "particle_scratch.h5 of `filmscale particles scratch`), relative to the "
+                    "scene: its friction over the steady stroke is the contact's")
 #: the top-level tables of a sliding scene
 SECTIONS = {"title", "description", "slider", "target", "contact"}
 #: what a sliding scene of the pipeline (`filmscale run`) computes: its [outputs] want

@@ -121,6 +121,11 @@ def test_record_and_rerun_without_lammps(ci_scratch):
         assert "in.tlsph" in f["inputs"]
     again = run_scratch(ci_scratch.spec, ci_scratch.run_dir)      # finished: read back
     np.testing.assert_array_equal(again.fz, ci_scratch.fz)
+    # a sliding scene's friction_from reads a particle record as it reads an MD one
+    from filmscale.md.scratch_run import read_scratch_friction
+    friction = read_scratch_friction(path)
+    assert (friction.mean, friction.std, friction.points) == (
+        pytest.approx(a.friction_mean), pytest.approx(a.friction_std), a.steady_points)
 
 
 # ---- spec errors ------------------------------------------------------------------------------

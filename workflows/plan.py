@@ -53,10 +53,31 @@ FRICTION_LIMIT = 0.3
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
 
 
+#: melt-quench throughput of carbon with Tersoff (the ci recipe's melt and quench, 512 atoms,
+#: one core: docs/amorphous.md), atom-steps per second per rank
+QUENCH_ATOM_STEPS_PER_RANK_S = 4.9e5
+
+
+def quenched_recipes(spec) -> list:
+    """The recipes of the films of an MD ``spec`` whose blocks a run quenches first."""
+    return [f.recipe for f in spec.slab.films
+            if getattr(f, "recipe", None) is not None and f.block.stand_in]
+
+
+def quench_cost_s(recipe, ranks: int) -> float:
+    """Estimated wall time (s) of a melt-quench on ``ranks`` ranks: its MD steps and the
+    final stage's thirteen relaxations (`md.amorphous`)."""
+    from filmscale.md.amorphous import RELAX_STEPS
+    steps = recipe.schedule().total + 13 * RELAX_STEPS
+    return recipe.n_atoms * steps / (QUENCH_ATOM_STEPS_PER_RANK_S * ranks)
+
+
 def md_cost_s(spec, ranks: int) -> float:
-    """Estimated wall time (s) of one MD run of ``spec`` on ``ranks`` ranks."""
+    """Estimated wall time (s) of one MD run of ``spec`` on ``ranks`` ranks, the quench of
+    the blocks its amorphous films name by recipe included."""
     return spec.slab_built.n_atoms * spec.protocol.schedule().s_end / (
-        MD_ATOM_STEPS_PER_RANK_S * ranks)
+        MD_ATOM_STEPS_PER_RANK_S * ranks) + sum(quench_cost_s(r, ranks)
+                                                 for r in quenched_recipes(spec))
 
 
 #: particle-model throughput (TLSPH, docs/lammps.md), particle-steps per second per core; PERI
@@ -126,8 +147,11 @@ def _calibration_step(src: CalibrationSource, base: Path, joint: bool,
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
         cost = md_cost_s(spec, src.np) * src.seeds
         ensemble = f", {src.seeds} seeds (one unit each)" if src.seeds > 1 else ""
-        model = (f"MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, {src.np} "
-                 f"rank(s){ensemble}) {fit}")
+        quench = "".join(f"a melt-quench of its film (recipe {r.name}, {r.n_atoms} atoms, "
+                         f"{r.density / 1000:g} g/cm3, {r.schedule().total} steps), then "
+                         for r in quenched_recipes(spec))
+        model = (f"{quench}MD indentation ({src.source[0]}: {atoms} atoms, {steps} steps, "
+                 f"{src.np} rank(s){ensemble}) {fit}")
     elif src.kind == "particles":
         from filmscale.md.particle_inputs import estimated_steps
         n, steps = spec.grid.n_particles, estimated_steps(spec)
@@ -153,7 +177,9 @@ def _joint_step(name: str, sources: list[CalibrationSource]) -> Step:
 
 def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
     """The (V, R) points a decision must hold at: the scene's impact, and for a map its
-    four corners."""
+    four corners and its fastest column (every radius at the largest speed): on a layered
+    target the first yield need not come first at a corner (an a-C overcoat's map yielded
+    at 5 m/s and 1 um, not at 5 m/s and 10 um, and 20 nm was out of range)."""
     V, R = [scene.impactor.velocity], [scene.impactor.radius]
     if "map" in outputs:
         v_axis, r_axis = scene.map.axes()
@@ -161,6 +187,8 @@ def _points(scene: Scene, outputs) -> tuple[np.ndarray, np.ndarray]:
             for r in (r_axis[0], r_axis[-1]):
                 V.append(v)
                 R.append(r)
+        V += [v_axis[-1]] * (len(r_axis) - 2)
+        R += list(r_axis[1:-1])
     return np.array(V), np.array(R)
 
 

@@ -211,8 +211,10 @@ def _mark_interfaces(ax, stack) -> None:
         ax.axvline(depths[k], color="0.5", ls=":", lw=0.9)
     if inside:
         top = ax.secondary_xaxis("top")
+        # every other name a line higher: two interfaces a decade apart would overlap
         top.set_xticks([depths[k] for k in inside],
-                       labels=[f"{names[k]} | {names[k + 1]}" for k in inside], fontsize=7)
+                       labels=[f"{names[k]} | {names[k + 1]}" + "\n" * (i % 2)
+                               for i, k in enumerate(inside)], fontsize=7)
         top.xaxis.set_minor_locator(NullLocator())
 
 

@@ -12,6 +12,11 @@ until a relaxation (the indentation's minimisation and equilibration, or
 Tiling a periodic block joins it to its own images, so the slice has no seam; a lateral
 strain beyond `MAX_STRAIN` is refused (choose a lateral size near a multiple of the block's
 edge, or a larger block).
+
+A film may instead name its recipe (`md.amorphous.AmorphousRecipe`): until the block is made
+(a store unit, `workflows.amorphous_units`), the layer carries a stand-in block (a simple
+cubic lattice of the recipe's atoms in the recipe's box), so that a spec's geometry is
+checked before any LAMMPS work; no run starts on a stand-in (`check_made`).
 """
 
 from __future__ import annotations
@@ -46,7 +51,7 @@ class AmorphousBlock:
     their content (`checksum`)."""
 
     def __init__(self, element: str, positions, box, potential: str, potential_sha256: str,
-                 source: str = ""):
+                 source: str = "", stand_in: bool = False):
         if not isinstance(element, str) or element not in atomic_numbers:
             raise InputError(f"element = {shown(element)} is not a chemical element symbol")
         positions = np.asarray(positions, float)
@@ -55,13 +60,25 @@ class AmorphousBlock:
                 box.shape != (3,) or not np.all(box > 0) or not np.all(np.isfinite(positions)):
             raise InputError(f"block = {source or 'the block'} needs (n, 3) positions and "
                              "three positive box edges")
-        self.element, self.source = element, str(source)
+        self.element, self.source, self.stand_in = element, str(source), bool(stand_in)
         self.positions, self.box = np.mod(positions, box), box
         self.potential, self.potential_sha256 = str(potential), str(potential_sha256)
         digest = hashlib.sha256(element.encode())
         digest.update(self.positions.tobytes())
         digest.update(box.tobytes())
         self.checksum = digest.hexdigest()
+
+    @classmethod
+    def stand_in_for(cls, recipe) -> AmorphousBlock:
+        """A simple cubic lattice of about the recipe's atoms in its box: the geometry of
+        the block the recipe will make, for the checks of a spec before its quench."""
+        n = max(1, round(recipe.n_atoms ** (1.0 / 3.0)))
+        edge = recipe.box_edge
+        grid = (np.stack(np.meshgrid(*[np.arange(n)] * 3, indexing="ij"), -1).reshape(-1, 3)
+                + 0.5) * edge / n
+        return cls(recipe.element, grid, [edge] * 3, recipe.potential.name,
+                   recipe.potential.sha256, f"the stand-in of recipe {recipe.name!r}",
+                   stand_in=True)
 
     @property
     def n_atoms(self) -> int:
@@ -87,11 +104,13 @@ class AmorphousBlock:
 @dataclass(frozen=True)
 class AmorphousLayer:
     """An amorphous film of ``thickness`` (m) cut from ``block``, its lowest atom ``gap`` (m)
-    above the highest atom of the layer below."""
+    above the highest atom of the layer below; ``recipe`` when the film is named by the
+    recipe that makes its block (the block a stand-in until it is made: `named_by`)."""
 
     block: AmorphousBlock
     thickness: float
     gap: float = DEFAULT_GAP
+    recipe: object = None          #: an `md.amorphous.AmorphousRecipe`, or None
     structure: ClassVar[str] = "amorphous"
 
     def __post_init__(self):
@@ -99,9 +118,34 @@ class AmorphousLayer:
             raise InputError(f"block = {shown(self.block)} must be an AmorphousBlock")
         check_real("gap", self.gap, low=GAP_RANGE[0], high=GAP_RANGE[1], unit="m")
 
+    @classmethod
+    def named_by(cls, recipe, thickness: float, gap: float = DEFAULT_GAP) -> AmorphousLayer:
+        """A film of the block ``recipe`` makes, with a stand-in block until it is made."""
+        return cls(AmorphousBlock.stand_in_for(recipe), thickness, gap, recipe)
+
     @property
     def element(self) -> str:
         return self.block.element
+
+    def to_dict(self) -> dict:
+        """The film as a spec's record and unit hash hold it: the block by its checksum (none
+        for a stand-in), the recipe by `AmorphousRecipe.to_dict`."""
+        return {"structure": self.structure, "thickness": self.thickness, "gap": self.gap,
+                "block": None if self.block.stand_in else
+                {"sha256": self.block.checksum, "source": self.block.source},
+                "recipe": None if self.recipe is None else
+                {"name": self.recipe.name, **self.recipe.to_dict()}}
+
+
+def check_made(layers, where: str) -> None:
+    """InputError when a film's block is still the stand-in of its recipe: a run needs the
+    quenched block (`workflows.amorphous_units.with_blocks` makes it)."""
+    for label, layer in layers:
+        if isinstance(layer, AmorphousLayer) and layer.block.stand_in:
+            raise InputError(f"{where}: {label} is named by recipe {layer.recipe.name!r}, "
+                             "whose block is not made yet; `filmscale md indent`, `md "
+                             "scratch` and `run` make it first (workflows.amorphous_units."
+                             "with_blocks)")
 
 
 @dataclass(frozen=True)

@@ -271,7 +271,7 @@ class IndentSpec:
 
     def to_dict(self) -> dict:
         return {"name": self.name, "potential": self.potential.to_dict(),
-                "slab": asdict(self.slab), "indenter": self.indenter.to_dict(),
+                "slab": self.slab.to_dict(), "indenter": self.indenter.to_dict(),
                 "protocol": asdict(self.protocol)}
 
     def with_protocol(self, **changes) -> IndentSpec:

@@ -26,6 +26,7 @@ from filmscale.core.checks import check_path
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_json, write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.amorphous_film import check_made
 from filmscale.md.engine import EngineOptions, LammpsError, parse_table, run_input
 from filmscale.md.indentation import (DATA_FILE, RECORD_COLUMNS, SURFACE_FILE, IndentSpec,
                                       derive_seeds, indentation_input, resume_input)
@@ -147,6 +148,7 @@ def run_indentation(spec: IndentSpec, run_dir: Path | str,
     run of the same spec resumes from its newest readable restart file; a finished one is
     read back without launching LAMMPS. ``progress(step, total)`` reports the timestep.
     """
+    check_made(spec.slab.layers(), "run_indentation")
     run_dir = Path(run_dir).resolve()
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "dumps").mkdir(exist_ok=True)

@@ -62,6 +62,7 @@ from filmscale import __version__
 from filmscale.core.errors import InputError, ModelRangeError
 from filmscale.core.files import atomic_h5, write_json
 from filmscale.core.jsonable import to_jsonable
+from filmscale.md.amorphous_film import check_made
 from filmscale.md.damage import (THRESHOLD, LayerDamage, atomic_strain, damaged_region,
                                  amorphous_cutoff, layer_index, shell_cutoff)
 from filmscale.md.engine import EngineOptions, LammpsError
@@ -172,6 +173,7 @@ def run_scratch(spec: ScratchSpec, run_dir: Path | str,
                 progress: Callable[[int, int], None] | None = None) -> ScratchRun:
     """Run ``spec`` in ``run_dir``, resume it there, or read a finished run back
     (`run.run_resumable`, as an indentation)."""
+    check_made(spec.indent.slab.layers(), "run_scratch")
     run_dir = Path(run_dir).resolve()
     (run_dir / "dumps").mkdir(parents=True, exist_ok=True)
     try:

@@ -30,6 +30,14 @@ the spec's)::
     thickness = 1.0e-9            # m, cut to this height
     gap = 1.5e-10                 # m, above the highest atom below (default)
 
+or names the recipe that makes its block (made, or reused, in a store before the run)::
+
+    [[slab.films]]
+    structure = "amorphous"
+    recipe = "ci"                 # an `md amorphous` preset, or a recipe file
+    density = "3.0 g/cm3"         # optional: the recipe at this density (and seed = ...)
+    thickness = 1.0e-9
+
 Presets: ``ci`` (the test suite's run, seconds), ``quick`` (a few-nm Cu film on Ni: a
 Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``research``
 (sizes for a study, meant for MPI on many cores).
@@ -38,6 +46,7 @@ Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``res
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 from pathlib import Path
 
 from filmscale.core.checks import check_keys, check_path, check_table, required
@@ -103,20 +112,49 @@ def _crystal(where: str, table: dict, potential: Potential) -> SlabLayer:
 
 
 def _film(where: str, table: dict, potential: Potential, base_dir: Path | None):
-    """A film: a crystal, or ``structure = "amorphous"`` with ``block`` (the record of
-    `filmscale md amorphous`, or its unit folder; relative to the spec file), ``thickness``
-    and ``gap`` (m)."""
+    """A film: a crystal, or ``structure = "amorphous"`` with ``thickness`` and ``gap`` (m)
+    and either ``block`` (the record of `filmscale md amorphous`, or its unit folder;
+    relative to the spec file) or ``recipe`` (an `md amorphous` preset or a recipe file,
+    with ``density`` and ``seed`` to change the recipe's: the block is made in a store
+    before the run, `workflows.amorphous_units`)."""
     if not isinstance(table, dict) or table.get("structure") != "amorphous":
         return _crystal(where, table, potential)
-    table = check_keys(where, table, {"structure", "block", "thickness", "gap"})
-    block = required(where, table, "block")
+    table = check_keys(where, table, {"structure", "block", "recipe", "density", "seed",
+                                      "thickness", "gap"})
+    if ("block" in table) == ("recipe" in table):
+        raise InputError(f"{where}: an amorphous film takes block (a made block's record) or "
+                         "recipe (a preset or recipe file, made before the run), one of them")
+    thickness, gap = required(where, table, "thickness"), table.get("gap", DEFAULT_GAP)
+    if "recipe" in table:
+        return AmorphousLayer.named_by(_recipe(where, table, base_dir), thickness, gap)
+    if {"density", "seed"} & set(table):
+        raise InputError(f"{where}: density and seed change a recipe; a made block has its own")
+    block = table["block"]
     if not isinstance(block, str):
         raise InputError(f"{where}.block = {shown(block)} must be the path of an "
                          "amorphous-block record")
     from filmscale.md.amorphous_run import read_block    # h5py and scipy only for a film
     path = Path(block) if base_dir is None else Path(base_dir) / block
-    return AmorphousLayer(read_block(path), required(where, table, "thickness"),
-                          table.get("gap", DEFAULT_GAP))
+    return AmorphousLayer(read_block(path), thickness, gap)
+
+
+def _recipe(where: str, table: dict, base_dir: Path | None):
+    """The recipe a film names: a preset of `md amorphous` or a recipe file (relative to
+    the spec file), at the film's ``density`` (kg/m^3, or a quantity) and ``seed``."""
+    from filmscale.core.quantities import to_si
+    from filmscale.md.amorphous import PRESETS as RECIPES, amorphous_preset, load_recipe
+    name = table["recipe"]
+    if not isinstance(name, str):
+        raise InputError(f"{where}.recipe = {shown(name)} must be a preset "
+                         f"({', '.join(RECIPES)}) or a recipe file")
+    recipe = amorphous_preset(name) if name in RECIPES else \
+        load_recipe(Path(name) if base_dir is None else Path(base_dir) / name)
+    changes = {}
+    if "density" in table:
+        changes["density"] = to_si(f"{where}.density", table["density"], "kg/m^3")
+    if "seed" in table:
+        changes["seed"] = table["seed"]
+    return replace(recipe, **changes) if changes else recipe
 
 
 def spec_from_mapping(data: dict, base_dir: Path | None = None) -> IndentSpec:

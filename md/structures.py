@@ -16,7 +16,7 @@ metal units use them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 from ase import Atoms
@@ -158,6 +158,15 @@ class SlabSpec:
         """(label, layer) from the top film down to the substrate."""
         return [(f"films[{i}]", f) for i, f in enumerate(self.films)] + \
             [("substrate", self.substrate)]
+
+    def to_dict(self) -> dict:
+        """The spec as records and unit hashes hold it (an amorphous film by
+        `AmorphousLayer.to_dict`)."""
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        d["films"] = [f.to_dict() if isinstance(f, AmorphousLayer) else asdict(f)
+                      for f in self.films]
+        d["substrate"] = asdict(self.substrate)
+        return d
 
     @property
     def elements(self) -> tuple[str, ...]:

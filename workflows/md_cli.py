@@ -96,6 +96,16 @@ def _print_summary(run, analysis, elastic, record: Path, op: dict, plot) -> None
     print(f"record: {record}  ({run.wall_time:.1f} s in LAMMPS)")
 
 
+def _with_blocks(spec, out: Path, engine, args):
+    """``spec`` with the blocks of the films it names by recipe, made in (or reused from)
+    the store ``--blocks`` (default: ``blocks`` in the run directory)."""
+    from filmscale.workflows.amorphous_units import with_blocks
+    store = Path(args.blocks) if args.blocks else out / "blocks"
+    if store.exists() and not store.is_dir():
+        raise InputError(f"--blocks {store} is a file, not a folder")
+    return with_blocks(spec, store, engine, quiet=args.json)
+
+
 def cmd_md_indent(args) -> int:
     from filmscale.md.amorphous_run import layer_elastic_constants
     from filmscale.md.analysis import analyze_indentation
@@ -110,6 +120,7 @@ def cmd_md_indent(args) -> int:
     check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
                      args.force)
     _check_plot(args)
+    spec = _with_blocks(spec, out, engine, args)
     slab = spec.slab_built
     if not args.json:
         print(f"{spec.name}: {slab.n_atoms} atoms, {spec.protocol.schedule().s_end} steps, "
@@ -185,6 +196,7 @@ def cmd_md_scratch(args) -> int:
     check_run_folder("--out", out, [("the run specification", args.spec)] if args.spec else [],
                      args.force)
     _check_plot(args)
+    spec = _with_blocks(spec, out, engine, args)
     total = spec.schedule().s_end
     if not args.json:
         print(f"{spec.name}: {spec.indent.slab_built.n_atoms} atoms, {total} steps, "
@@ -224,31 +236,6 @@ ENSEMBLE_KEYS = ("density", "sp3_fraction", "sp2_fraction", "sp_fraction", "mean
                  "E", "nu", "K", "G", "residual_stress", "energy_per_atom")
 
 
-def _amorphous_unit(recipe, store: Path, engine, args) -> tuple[Path, bool]:
-    """The unit of ``recipe`` in ``store``: made (LAMMPS, with progress) or reused."""
-    from filmscale.md.amorphous_run import (RECORD_NAME, analyze_amorphous, run_amorphous,
-                                            write_amorphous_record)
-    from filmscale.workflows.progress import with_step_progress
-    from filmscale.workflows.store import (done_record, finish_unit, own_folder, unit_dir,
-                                           unit_lock)
-
-    unit = unit_dir(store, "md-amorphous", recipe.to_dict())
-    with unit_lock(unit):
-        reused = done_record(unit) is not None
-        if not reused:
-            total = recipe.schedule().total
-            if not args.json:
-                print(f"{recipe.name} (seed {recipe.seed}): {recipe.n_atoms} atoms, {total} "
-                      f"steps, {args.np} rank(s); unit {unit}", file=sys.stderr)
-            run = with_step_progress(total, recipe.name, lambda progress: run_amorphous(
-                recipe, own_folder(unit), engine, progress=progress))
-            write_amorphous_record(run, analyze_amorphous(run), provenance=provenance(
-                command="filmscale " + " ".join(sys.argv[1:])))
-            finish_unit(unit, {"kind": "md-amorphous", "wall_time": run.wall_time},
-                        files=(RECORD_NAME,))
-    return unit, reused
-
-
 def _ensemble(summaries: list[dict]) -> tuple[dict, dict]:
     """Mean and sample standard deviation over the seeds of each `ENSEMBLE_KEYS` figure."""
     import numpy as np
@@ -265,6 +252,7 @@ def cmd_md_amorphous(args) -> int:
 
     from filmscale.md.amorphous_run import RECORD_NAME, read_amorphous_summary, summary_lines
     from filmscale.md.engine import EngineOptions
+    from filmscale.workflows.amorphous_units import amorphous_unit
 
     recipe = _amorphous_recipe(args)
     if isinstance(args.seeds, bool) or not 1 <= args.seeds <= 64:
@@ -276,7 +264,7 @@ def cmd_md_amorphous(args) -> int:
     rows = []
     for k in range(args.seeds):
         seeded = dataclasses.replace(recipe, seed=recipe.seed + k)
-        unit, reused = _amorphous_unit(seeded, store, engine, args)
+        unit, reused = amorphous_unit(seeded, store, engine, quiet=args.json)
         summary = read_amorphous_summary(unit / RECORD_NAME)
         rows.append({**{key: summary[key] for key in AMORPHOUS_KEYS}, "seed": seeded.seed,
                      "n_atoms": summary["n_atoms"], "wall_time": summary["wall_time"],
@@ -343,6 +331,8 @@ def add_arguments(sub) -> None:
     p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
+    p.add_argument("--blocks", metavar="STORE", help="store of the amorphous blocks "
+                   "that films name by recipe (default DIR/blocks)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.add_argument("--plot", metavar="FILE.png",
                    help="plot the load-displacement curve with its Oliver-Pharr fit (as "
@@ -361,6 +351,8 @@ def add_arguments(sub) -> None:
     p.add_argument("--np", type=int, default=1, help="MPI ranks (default 1: the library)")
     p.add_argument("--omp", type=int, default=1, help="OpenMP threads per rank (default 1)")
     p.add_argument("--out", metavar="DIR", help="run directory (default md_runs/NAME)")
+    p.add_argument("--blocks", metavar="STORE", help="store of the amorphous blocks "
+                   "that films name by recipe (default DIR/blocks)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     p.add_argument("--plot", metavar="FILE.png",
                    help="plot the forces and friction against the sliding distance, the "

@@ -89,6 +89,10 @@ def settings_bias(spec) -> tuple[list[Measured], list[str]]:
 def md_settings_advice(spec, tolerance: float) -> tuple[str, tuple[str, ...]]:
     """(the error statement, advice lines) of an MD spec against the measured table, for a
     relative tolerance on the film's E (the scene's tolerance)."""
+    if any(film.structure == "amorphous" for film in spec.slab.films):
+        return (f"MD settings: not measured for an amorphous film (the table is of the "
+                f"{PRESET} preset's crystal film); the quench's own rate and size against sp3 "
+                "and E are in docs/amorphous.md"), ()
     known, unmeasured = settings_bias(spec)
     changed = {m.key for m in known}
     dearer = [m for m in TABLE if m.cost > 1.0 and m.key not in changed]

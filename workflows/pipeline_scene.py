@@ -78,6 +78,10 @@ class CalibrationSource:
     #: "fit" or "fixed" (`calibrate`'s contact_zero); None: `calibrate`'s default (fit for a
     #: rigid tip, fixed for diamond). Particle sources default to "fixed".
     contact_zero: str | None = None
+    #: "amorphous": the MD spec's top film is named by a melt-quench recipe (its block is
+    #: made in the store before the run); "" for a spec as it stands
+    structure: str = ""
+    density: float | None = None     #: kg/m^3, the amorphous film's recipe at this density
 
     @property
     def label(self) -> str:
@@ -87,7 +91,8 @@ class CalibrationSource:
     def spec(self, base: Path):
         """The run's spec (None for curve files)."""
         if self.kind == "md":
-            return _md_spec(self.source[0], Path(base).resolve())
+            spec = _md_spec(self.source[0], Path(base).resolve())
+            return amorphous_top(spec, self) if self.structure else spec
         if self.kind == "particles":
             return _particle_spec(self.source[0], Path(base).resolve())
         return None
@@ -101,7 +106,11 @@ class CalibrationSource:
         from filmscale.md.indentation import derive_seeds
         master = spec.protocol.seed
         derived = derive_seeds(master, tuple(f"member{i}" for i in range(1, self.seeds)))
-        return [spec] + [spec.with_protocol(seed=s) for s in derived.values()]
+        members = [spec.with_protocol(seed=s) for s in derived.values()]
+        if self.structure:      # each member's film from its own quench seed (its own block)
+            members = [amorphous_top(m, self, quench_seed=i)
+                       for i, m in enumerate(members, start=1)]
+        return [spec] + members
 
     def films(self, spec, where: str = "calibrate") -> tuple:
         """The films of a run's spec, top first: the calibrated layer is the top one, on the
@@ -144,6 +153,28 @@ class CalibrationSource:
                     c = replace(c, indenter=self.tip)
                 out.append(check_curve_modulus(c))
         return out
+
+
+def amorphous_top(spec, src: CalibrationSource, quench_seed: int = 0):
+    """``spec`` with its top film's recipe at the source's ``density`` and its quench seed
+    moved on by ``quench_seed``; InputError when the top film is not named by a recipe."""
+    from filmscale.md.amorphous_film import AmorphousLayer
+    films = spec.slab.films
+    where = f"target.layers[{src.layer}].calibrate"
+    if not films or not isinstance(films[0], AmorphousLayer) or films[0].recipe is None:
+        raise InputError(f"{where}.structure = \"amorphous\": the top film of the MD spec "
+                         f"{src.source[0]} must be amorphous and name its recipe "
+                         "(structure = \"amorphous\", recipe = ...; docs/amorphous.md)")
+    top = films[0]
+    changes = {"seed": top.recipe.seed + quench_seed} if quench_seed else {}
+    if src.density is not None:
+        changes["density"] = src.density
+    if not changes:
+        return spec
+    recipe = replace(top.recipe, **changes)
+    slab = replace(spec.slab, films=(AmorphousLayer.named_by(recipe, top.thickness, top.gap),
+                                     *films[1:]))
+    return replace(spec, slab=slab, slab_built=None)
 
 
 @dataclass(frozen=True)
@@ -204,7 +235,7 @@ def filled_data(data: dict, materials: dict[int, ElasticPlastic],
 
 
 _SOURCE_KEYS = {"np", "tip", "tolerance", "exclude", "tip_material", "film_thickness",
-                "substrate", "seeds", "contact_zero"}
+                "substrate", "seeds", "contact_zero", "structure", "density"}
 
 
 def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSource:
@@ -263,8 +294,30 @@ def _calibration_source(cal, where: str, layer: int, name: str) -> CalibrationSo
     zero = cal.get("contact_zero", "fixed" if kind == "particles" else None)
     if zero is not None:
         check_choice(f"{where}.contact_zero", zero, CONTACT_ZEROS)
+    structure, density = _amorphous_keys(cal, where, kind)
     return CalibrationSource(layer, name, kind, tuple(files), np_, str(tip), tol,
-                             tip_material, thickness, substrate, exclude, seeds, zero)
+                             tip_material, thickness, substrate, exclude, seeds, zero,
+                             structure, density)
+
+
+def _amorphous_keys(cal: dict, where: str, kind: str) -> tuple[str, float | None]:
+    """``structure`` ("amorphous": an MD source's film named by a recipe) and ``density``
+    (kg/m^3, checked as a recipe's), checked."""
+    structure = cal.get("structure", "")
+    if structure:
+        check_choice(f"{where}.structure", structure, ("amorphous",))
+    if structure and kind != "md":
+        raise InputError(f"{where}.structure: an amorphous film is quenched in MD; a {kind} "
+                         "source takes none")
+    if "density" not in cal:
+        return structure, None
+    if not structure:
+        raise InputError(f"{where}.density is the density of an amorphous film's quench; give "
+                         "structure = \"amorphous\" with it")
+    from filmscale.md.amorphous import DENSITY_RANGE
+    density = check_real(f"{where}.density", cal["density"], low=DENSITY_RANGE[0],
+                         high=DENSITY_RANGE[1], unit="kg/m^3")
+    return structure, density
 
 
 def _outputs(data: dict, sliding: bool) -> tuple[list, float]:

@@ -49,7 +49,7 @@ _LAYER_HEADER = re.compile(r"^[ \t]*\[\[[ \t]*target[ \t]*\.[ \t]*layers[ \t]*\]
                            re.MULTILINE)
 #: the quantities of a layer's calibration source (docs/pipeline.md), SI unit by key
 _SOURCE_QUANTITIES = {
-    "calibrate": {"film_thickness": "m"},
+    "calibrate": {"film_thickness": "m", "density": "kg/m^3"},
     "calibrate.substrate": {"E": "Pa", "sigma_y": "Pa"},
 }
 

@@ -30,14 +30,18 @@ def run_md(spec, path: Path, ranks: int):
     """The MD indentation, and the potential's own elastic constants of the film and of the
     substrate under it (0 K, Voigt-Reuss-Hill E and nu, and the indentation modulus M of
     the slab's surface orientation): the substrate for the film's calibration, the film's
-    for the check of the calibrated E against the potential."""
+    for the check of the calibrated E against the potential. A film named by a melt-quench
+    recipe is cut from its block, made in (or reused from) the unit's store first; its
+    constants are the block's own (`md.amorphous_run.block_elastic_constants`)."""
     from filmscale.continuum.elasticity import indentation_modulus
+    from filmscale.md.amorphous_run import layer_elastic_constants
     from filmscale.md.analysis import analyze_indentation
-    from filmscale.md.elastic import elastic_constants
     from filmscale.md.engine import EngineOptions
     from filmscale.md.record import RECORD_NAME, run_provenance, write_record
     from filmscale.md.run import run_indentation
     from filmscale.md.structures import surface_normal
+    from filmscale.workflows.amorphous_units import with_blocks
+    spec = with_blocks(spec, path.parent, EngineOptions(np=ranks))
     run = with_step_progress(spec.protocol.schedule().s_end, f"{path.name} (MD)",
                              lambda progress: run_indentation(spec, path, EngineOptions(np=ranks),
                                                               progress=progress))
@@ -45,21 +49,21 @@ def run_md(spec, path: Path, ranks: int):
     layers = {"top": (spec.slab.films or (spec.slab.substrate,))[0]}
     if spec.slab.films:
         layers["substrate"] = spec.slab.substrate
-    constants = {key: elastic_constants(spec.potential, layer.crystal,
-                                        run_dir=path / f"elastic-{key}")
+    constants = {key: layer_elastic_constants(spec.potential, layer, path / f"elastic-{key}")
                  for key, layer in layers.items()}
     # the record `filmscale md indent` writes: the unit's curve, analysis and provenance
     write_record(run, analyze_indentation(run, constants["top"]), constants["top"],
                  path / RECORD_NAME)
     normal = surface_normal(spec.slab.orientation)
     record["potential_elastic"] = {
-        key: {"element": layers[key].crystal.element, "E": c.average.E, "nu": c.average.nu,
-              "M": indentation_modulus(c.C, normal), "orientation": spec.slab.orientation}
+        key: {"element": layers[key].element, "structure": layers[key].structure,
+              "E": c.average.E, "nu": c.average.nu, "M": indentation_modulus(c.C, normal),
+              "orientation": spec.slab.orientation}
         for key, c in constants.items()}
     if spec.slab.films:
         sub = constants["substrate"].average
         record["film"] = {"thickness": spec.slab.films[0].thickness,
-                          "substrate": {"name": spec.slab.substrate.crystal.element,
+                          "substrate": {"name": spec.slab.substrate.element,
                                         "E": sub.E, "nu": sub.nu}}
     return run.curve, record
 

@@ -40,7 +40,7 @@ from filmscale.core.checks import check_int, check_keys, check_path, check_real,
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.core.quantities import to_si
-from filmscale.md.elastic import elastic_input
+from filmscale.md.elastic import MINIMIZE as ELASTIC_MINIMIZE, elastic_input
 from filmscale.md.indentation import derive_seeds, lammps_number
 from filmscale.md.lammps_units import lammps_to_si, si_to_lammps
 from filmscale.potentials import Potential
@@ -65,8 +65,6 @@ RECORD_COLUMNS = ("step", "time", "temp", "pe", "press")
 RECORD_ROWS = 500
 #: the relaxation of the final block and of each strained state (`relax_lines`)
 RELAX_STEPS, RELAX_DAMPING, RELAX_CG = 1000, 5e-14, 100
-#: the minimisation of `md.elastic`'s input, which `relax_lines` replaces
-ELASTIC_MINIMIZE = "minimize 0 1e-12 10000 100000"
 #: the longest run accepted, steps (a recipe past it is a unit slip in a time or rate)
 MAX_STEPS = 200_000_000
 

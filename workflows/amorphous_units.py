@@ -16,6 +16,19 @@ from filmscale.workflows.progress import with_step_progress
 from filmscale.workflows.store import done_record, finish_unit, own_folder, unit_dir, unit_lock
 
 
+#: melt-quench throughput of carbon with Tersoff (the ci recipe's melt and quench, 512 atoms,
+#: one core: docs/amorphous.md), atom-steps per second per rank
+QUENCH_ATOM_STEPS_PER_RANK_S = 4.9e5
+
+
+def quench_cost_s(recipe, ranks: int) -> float:
+    """Estimated wall time (s) of a melt-quench on ``ranks`` ranks: its MD steps and the
+    final stage's thirteen relaxations (`md.amorphous`), at the ci rate."""
+    from filmscale.md.amorphous import RELAX_STEPS
+    steps = recipe.schedule().total + 13 * RELAX_STEPS
+    return recipe.n_atoms * steps / (QUENCH_ATOM_STEPS_PER_RANK_S * ranks)
+
+
 def amorphous_unit(recipe, store: Path, engine, *, quiet: bool = False) -> tuple[Path, bool]:
     """The unit of ``recipe`` in ``store`` and whether it was reused: made (LAMMPS, with a
     progress bar unless ``quiet``) when it is not done yet."""
@@ -27,8 +40,10 @@ def amorphous_unit(recipe, store: Path, engine, *, quiet: bool = False) -> tuple
         if not reused:
             total = recipe.schedule().total
             if not quiet:
+                cost = quench_cost_s(recipe, engine.np)
                 print(f"{recipe.name} (seed {recipe.seed}): {recipe.n_atoms} atoms, {total} "
-                      f"steps, {engine.np} rank(s); unit {unit}", file=sys.stderr)
+                      f"steps, {engine.np} rank(s), about {cost / 3600:.2g} h by the cost "
+                      f"model; unit {unit}", file=sys.stderr)
             run = with_step_progress(total, recipe.name, lambda progress: run_amorphous(
                 recipe, own_folder(unit), engine, progress=progress))
             write_amorphous_record(run, analyze_amorphous(run), provenance=provenance(

@@ -41,6 +41,7 @@ from filmscale.continuum.contact.laws import contact_law
 from filmscale.continuum.contact.slider import sliding_kind
 from filmscale.continuum.materials import ElasticPlastic, LayerStack
 from filmscale.core.errors import InputError
+from filmscale.workflows.amorphous_units import quench_cost_s
 from filmscale.workflows.md_settings import md_settings_advice
 from filmscale.workflows.scene import Scene
 from filmscale.workflows.pipeline_scene import CalibrationSource, PipelineScene, layer_sources
@@ -53,23 +54,10 @@ FRICTION_LIMIT = 0.3
 MD_ATOM_STEPS_PER_RANK_S = 14336 * 5500 / 184.0 / 2
 
 
-#: melt-quench throughput of carbon with Tersoff (the ci recipe's melt and quench, 512 atoms,
-#: one core: docs/amorphous.md), atom-steps per second per rank
-QUENCH_ATOM_STEPS_PER_RANK_S = 4.9e5
-
-
 def quenched_recipes(spec) -> list:
     """The recipes of the films of an MD ``spec`` whose blocks a run quenches first."""
     return [f.recipe for f in spec.slab.films
             if getattr(f, "recipe", None) is not None and f.block.stand_in]
-
-
-def quench_cost_s(recipe, ranks: int) -> float:
-    """Estimated wall time (s) of a melt-quench on ``ranks`` ranks: its MD steps and the
-    final stage's thirteen relaxations (`md.amorphous`)."""
-    from filmscale.md.amorphous import RELAX_STEPS
-    steps = recipe.schedule().total + 13 * RELAX_STEPS
-    return recipe.n_atoms * steps / (QUENCH_ATOM_STEPS_PER_RANK_S * ranks)
 
 
 def md_cost_s(spec, ranks: int) -> float:

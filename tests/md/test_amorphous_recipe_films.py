@@ -17,9 +17,9 @@ from filmscale.core.errors import InputError
 from filmscale.md.engine import EngineOptions
 from filmscale.md.run import run_indentation
 from filmscale.md.spec import spec_from_mapping
-from filmscale.workflows.amorphous_units import with_blocks
+from filmscale.workflows.amorphous_units import quench_cost_s, with_blocks
 from filmscale.workflows.pipeline_scene import parse_pipeline
-from filmscale.workflows.plan import quench_cost_s, quenched_recipes
+from filmscale.workflows.plan import quenched_recipes
 
 CARBON_KG = 12.011 * 1.66053906660e-27
 #: a 64-atom recipe that quenches in seconds
@@ -169,3 +169,23 @@ def test_structure_amorphous_needs_a_film_named_by_its_recipe(tmp_path):
                                          "and name its recipe"):
         parse_pipeline(SCENE.format(keys='structure = "amorphous"'), base=tmp_path)
 
+
+
+def test_a_scratch_spec_gets_its_block_and_keeps_its_length(recipe_file, tmp_path):
+    """`md scratch` on a film named by recipe: the block made in the store, the slab cut from
+    it and lengthened along x to the spec's length (whole periods of the block as tiled)."""
+    from filmscale.md.scratch import scratch_spec_from_mapping
+    table = spec_table({"recipe": recipe_file.name})
+    table["slab"].update(lateral_size=2.14e-9, length="3.6 nm")
+    del table["protocol"]["depth"]
+    table["scratch"] = {"depth": "0.2 nm", "length": "0.8 nm", "speed": "100 m/s"}
+    spec = scratch_spec_from_mapping(table, recipe_file.parent)
+    made = with_blocks(spec, tmp_path / "store", EngineOptions(), quiet=True)
+    film = made.indent.slab.films[0]
+    assert not film.block.stand_in and made.stroke == spec.stroke
+    assert made.indent.slab_built.box[:2] == pytest.approx(spec.indent.slab_built.box[:2],
+                                                            rel=1e-12)
+    # the made slab: whole copies of the block's edge along x, as the stand-in's
+    edge = film.block.box[0] * (1 + made.indent.slab_built.misfit[0][0])
+    copies = made.indent.slab_built.box[0] / edge
+    assert copies == pytest.approx(round(copies), abs=1e-6)

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from filmscale.core.provenance import provenance
-from filmscale.workflows.progress import with_step_progress
+from filmscale.workflows.progress import duration, with_step_progress
 from filmscale.workflows.store import done_record, finish_unit, own_folder, unit_dir, unit_lock
 
 
@@ -42,7 +42,7 @@ def amorphous_unit(recipe, store: Path, engine, *, quiet: bool = False) -> tuple
             if not quiet:
                 cost = quench_cost_s(recipe, engine.np)
                 print(f"{recipe.name} (seed {recipe.seed}): {recipe.n_atoms} atoms, {total} "
-                      f"steps, {engine.np} rank(s), about {cost / 3600:.2g} h by the cost "
+                      f"steps, {engine.np} rank(s), about {duration(cost)} by the cost "
                       f"model; unit {unit}", file=sys.stderr)
             run = with_step_progress(total, recipe.name, lambda progress: run_amorphous(
                 recipe, own_folder(unit), engine, progress=progress))

@@ -17,15 +17,18 @@ BAR_FORMAT = ("{desc}: {n_fmt}/{total_fmt} {unit} {percentage:3.0f}%|{bar}| "
               "[{elapsed} elapsed, {remaining} left, {rate_fmt}]")
 
 
+def duration(seconds: float) -> str:
+    """``40 s``, ``2.9 min`` or ``1.6 h``."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 90 * 60:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
 def time_left(seconds: float) -> str:
     """``40 s left``, ``2.9 min left``, ``1.6 h left``, or ``time left unknown``."""
-    if not math.isfinite(seconds):
-        return "time left unknown"
-    if seconds < 90:
-        return f"{seconds:.0f} s left"
-    if seconds < 90 * 60:
-        return f"{seconds / 60:.1f} min left"
-    return f"{seconds / 3600:.1f} h left"
+    return f"{duration(seconds)} left" if math.isfinite(seconds) else "time left unknown"
 
 
 class PlainProgress:

@@ -134,7 +134,8 @@ def _calibration_step(src: CalibrationSource, base: Path, joint: bool,
         error = f"{error}; {settings} (rule 6)"
         atoms, steps = spec.slab_built.n_atoms, spec.protocol.schedule().s_end
         cost = md_cost_s(spec, src.np) * src.seeds
-        ensemble = f", {src.seeds} seeds (one unit each)" if src.seeds > 1 else ""
+        ensemble = (f", {src.seeds} seeds (one unit each" + (", each its own quench" if
+                    quenched_recipes(spec) else "") + ")") if src.seeds > 1 else ""
         quench = "".join(f"a melt-quench of its film (recipe {r.name}, {r.n_atoms} atoms, "
                          f"{r.density / 1000:g} g/cm3, {r.schedule().total} steps), then "
                          for r in quenched_recipes(spec))

@@ -132,7 +132,7 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
         raise InputError(f"R has {len(radii)} values for {len(curves)} curves")
     law = contact_law(law) if isinstance(law, str) else law
     for c in curves:
-        check_tip_shape(c, "sphere")
+        check_tip_shape(c, "sphere", fit_zero)
     data = []
     for c, r in zip(curves, radii):
         h, P, pop = loading_points(c, with_pop_in=True)

@@ -94,3 +94,31 @@ def test_felt_properties_are_the_profiles_own(sub_sigma_y):
     for g, w in zip(got, want):
         np.testing.assert_allclose(g, w, rtol=1e-12)
     assert SphereTarget(NU).film_weights(delta, R) is None
+
+
+def test_a_rigid_tips_shape_is_judged_between_the_nominal_surface_and_its_first_contact():
+    """An MD tip on a rough film meets its first atom above the nominal surface. A Hertz
+    curve P = (4/3) E* sqrt(R) (h - h0)^1.5 (Johnson 1985) with h0 = -0.03 nm, loaded to
+    0.12 nm with 2 % noise, reads m < 0.8 on the nominal zero: refused when the zero is the
+    instrument's, kept when the calibration fits it (its first contact gives m = 1.5). A
+    Berkovich curve P = C h^2 touching at h = 0 is refused either way."""
+    from filmscale.continuum.indentation.spherical import (check_tip_shape,
+                                                           first_contact_depth,
+                                                           loading_exponent)
+    R, E_star, h0 = 1e-9, 650e9, -3e-11
+    h = np.arange(-2e-10, 1.2e-10, 1e-12)
+    P = np.where(h > h0, 4 / 3 * E_star * np.sqrt(R) * np.clip(h - h0, 0, None) ** 1.5, 0.0)
+    noisy = P * (1 + 0.02 * np.random.default_rng(5).standard_normal(h.size))
+    curve = LoadDisplacementCurve(h, noisy, segment=np.zeros(h.size, int), indenter="sphere:1nm")
+    assert first_contact_depth(curve) == pytest.approx(h0, abs=1.5e-12)
+    assert loading_exponent(curve) < 0.8
+    assert loading_exponent(curve, first_contact_depth(curve)) == pytest.approx(1.5, abs=0.05)
+    with pytest.raises(InputError, match=r"loads as P ~ h\^0\.[0-7]\d, outside"):
+        check_tip_shape(curve, "sphere")
+    assert check_tip_shape(curve, "sphere", fit_zero=True) < 0.8
+    hb = np.linspace(0.0, 1e-6, 200)
+    berkovich = LoadDisplacementCurve(hb, 24.5 * 90e9 * hb**2, segment=np.zeros(hb.size, int),
+                                      indenter="sphere:5um")
+    with pytest.raises(InputError, match=r"h\^2.00 \(h\^2.00 from its first contact\).*"
+                                         "looks sharp"):
+        check_tip_shape(berkovich, "sphere", fit_zero=True)

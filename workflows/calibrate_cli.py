@@ -235,6 +235,33 @@ class CurveInputs:
         return out
 
 
+#: the layer's Poisson ratio assumed when neither --nu nor a run record gives one
+DEFAULT_NU = 0.3
+
+
+def layer_nu(nu: float | None, paths: list) -> tuple[float, str]:
+    """(nu, where from): the option; else the mean Hill nu of the film's own elastic constants
+    that every file's MD record holds (the potential's crystal, or an amorphous film's block:
+    0.135 for the quick a-C block, whose E an assumed 0.3 moved by 10 %); else `DEFAULT_NU`."""
+    if nu is not None:
+        return nu, "option"
+    found = [record_nu(p) for p in paths]
+    if found and all(x is not None for x in found):
+        return float(sum(found) / len(found)), "record"
+    return DEFAULT_NU, "default"
+
+
+def record_nu(path) -> float | None:
+    """The Hill nu of the ``elastic`` group of an MD run record, or None (not one, or none)."""
+    if record_film(path) is None:
+        return None
+    import h5py
+    with h5py.File(path, "r") as f:
+        if "elastic" not in f or "average" not in f["elastic"].attrs:
+            return None
+        return float(json.loads(f["elastic"].attrs["average"])["nu"])
+
+
 def _source(curve) -> str:
     """What made a curve (``meta["source"]``; "" for a measured curve that says nothing)."""
     return str(curve.meta.get("source", ""))
@@ -456,12 +483,16 @@ def cmd_calibrate(args) -> int:
     for note in inputs.notes:
         print(f"filmscale: note: {note}", file=sys.stderr)
     curves = [c for _, cs in files for c in cs]
-    cal = calibrate(curves, nu=args.nu, tip=args.tip, tip_material=inputs.tip_material,
+    nu, nu_from = layer_nu(args.nu, [path for path, _ in files])
+    if nu_from == "record":
+        print(f"filmscale: nu {nu:.3g} (from the record: the film's own elastic constants, "
+              "Voigt-Reuss-Hill)", file=sys.stderr)
+    cal = calibrate(curves, nu=nu, tip=args.tip, tip_material=inputs.tip_material,
                     thickness=inputs.thickness, substrate=inputs.substrate, law=args.law,
                     layer=args.layer, contact_zero=inputs.contact_zero)
     check = cal.cross_check(args.tolerance, exclude=args.exclude)
     if args.json:
-        print(dumps(_json(cal, check, inputs)))
+        print(dumps({**_json(cal, check, inputs), "nu_from": nu_from}))
     else:
         print(cal.summary())
         print(f"  {check.text()}")
@@ -518,8 +549,9 @@ def add_arguments(sub) -> None:
                    help="sphere tips: fit the depth zero with E, or hold it fixed at the "
                         "curves' h = 0 (default: fit for a rigid tip, fixed for diamond and "
                         "for particle-model records)")
-    p.add_argument("--nu", type=float, default=0.3,
-                   help="the layer's Poisson ratio, assumed (default 0.3)")
+    p.add_argument("--nu", type=float,
+                   help="the layer's Poisson ratio, assumed (default: an MD record's own, "
+                        f"from its film's elastic constants, else {DEFAULT_NU})")
     p.add_argument("--layer", default="layer", help="the layer's name in the output")
     p.add_argument("--tolerance", type=float,
                    help="cross-scale check: largest rms misfit over the largest load "

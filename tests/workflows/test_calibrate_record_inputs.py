@@ -164,3 +164,37 @@ def test_records_and_measured_curves_do_not_mix_without_a_tip_material(records, 
     status = main(["calibrate", records[0], str(tmp_path / "m.csv"), "--tip", "sphere:0.8nm"])
     assert status == 2
     assert "give --tip-material" in capsys.readouterr().err
+
+
+def test_an_md_record_gives_its_films_own_poisson_ratio(records, tmp_path, capsys):
+    """A record with its film's elastic constants: `calibrate` assumes their Hill nu, not
+    0.3 (an a-C block's 0.135 moved its E by 10 %); --nu overrides it; a record without them
+    keeps 0.3. Oracle: an isotropic C built here from Lame's constants of E = 655 GPa and
+    nu = 0.135, whose every average is that nu."""
+    from filmscale.continuum.elasticity import voigt_reuss_hill
+    from filmscale.md.elastic import ElasticConstants
+    E, nu = 655e9, 0.135
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    C = np.zeros((6, 6))
+    C[:3, :3] = lam
+    C[np.arange(3), np.arange(3)] = lam + 2 * mu
+    C[np.arange(3, 6), np.arange(3, 6)] = mu
+    elastic = ElasticConstants("SiC_tersoff", "C", "amorphous", C, (3e-9,) * 3, 1e-3, 0.0,
+                               voigt_reuss_hill(C))
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(md_run, "run_input", RecordedEngine())
+        mp.setattr(md_record, "lammps_info", dict)
+        run = md_run.run_indentation(preset("ci"), tmp_path / "run")
+        path = str(md_record.write_record(run, analyze_indentation(run), elastic,
+                                          tmp_path / "with_elastic.h5"))
+    assert main(["calibrate", path, "--json"]) == 0
+    out, err = capsys.readouterr()
+    d = json.loads(out)
+    assert d["nu_from"] == "record" and d["nu"] == pytest.approx(nu, rel=1e-9)
+    assert "filmscale: nu 0.135 (from the record" in err
+    assert main(["calibrate", path, "--nu", "0.2", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["nu_from"] == "option" and d["nu"] == 0.2
+    assert main(["calibrate", records[0], "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["nu_from"] == "default" and d["nu"] == 0.3

@@ -147,8 +147,11 @@ def _recipe(where: str, table: dict, base_dir: Path | None):
     if not isinstance(name, str):
         raise InputError(f"{where}.recipe = {shown(name)} must be a preset "
                          f"({', '.join(RECIPES)}) or a recipe file")
-    recipe = amorphous_preset(name) if name in RECIPES else \
-        load_recipe(Path(name) if base_dir is None else Path(base_dir) / name)
+    path = Path(name) if base_dir is None else Path(base_dir) / name
+    if name not in RECIPES and not path.is_file():
+        raise InputError(f"{where}.recipe = {name!r} is neither a preset ({', '.join(RECIPES)})"
+                         f" nor a recipe file ({path} is not a file)")
+    recipe = amorphous_preset(name) if name in RECIPES else load_recipe(path)
     changes = {}
     if "density" in table:
         changes["density"] = to_si(f"{where}.density", table["density"], "kg/m^3")

@@ -72,7 +72,8 @@ def test_a_run_on_a_stand_in_is_refused_before_lammps(tmp_path):
     ({"recipe": "ci", "block": "x.h5"}, "takes block .* or recipe .*, one of them"),
     ({}, "takes block .* or recipe .*, one of them"),
     ({"recipe": "ci", "density": "9 g/cm3"}, r"density = 9000 .*1000"),
-    ({"recipe": "nope"}, "nope"),
+    ({"recipe": "nope"}, r"recipe = 'nope' is neither a preset \(ci, quick, research\) nor a "
+                         "recipe file"),
     ({"block": "x.h5", "density": 3000.0}, "density and seed change a recipe"),
 ])
 def test_bad_amorphous_films_are_refused(film, message):

@@ -3,6 +3,7 @@ with a message that names the parameter, its value and the valid range."""
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 from collections.abc import Iterable
@@ -153,6 +154,14 @@ def check_path(name: str, value) -> Path:
 def _short_repr(value, width: int = 60) -> str:
     text = repr(value)
     return text if len(text) <= width else text[:width - 3] + "..."
+
+
+def preset_table(presets: dict, name) -> dict:
+    """A copy of the named preset's table (a spec's, a recipe's) to build from; InputError
+    naming the presets."""
+    if not isinstance(name, str) or name not in presets:
+        raise InputError(f"preset = {_short_repr(name)} is not one of {', '.join(presets)}")
+    return copy.deepcopy(presets[name])
 
 
 def check_choice(name: str, value, choices: Iterable[str]) -> str:

@@ -27,7 +27,6 @@ rank: a recipe is reproducible to the last digit on the same number of ranks.
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
@@ -36,7 +35,8 @@ import numpy as np
 from ase import Atoms
 from ase.data import atomic_masses, atomic_numbers
 
-from filmscale.core.checks import check_int, check_keys, check_path, check_real, check_table
+from filmscale.core.checks import (check_int, check_keys, check_path, check_real, check_table,
+                                   preset_table)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.core.quantities import to_si
@@ -378,9 +378,7 @@ def load_recipe(path: Path | str) -> AmorphousRecipe:
 
 
 def amorphous_preset(name: str) -> AmorphousRecipe:
-    if name not in PRESETS:
-        raise InputError(f"preset = {shown(name)} is not one of {', '.join(PRESETS)}")
-    return recipe_from_mapping(copy.deepcopy(PRESETS[name]))
+    return recipe_from_mapping(preset_table(PRESETS, name))
 
 
 def with_density(recipe: AmorphousRecipe, density: float) -> AmorphousRecipe:

@@ -39,17 +39,15 @@ within 5 %: 4.6 %) and ``research`` (3.4 %; 2 % was not reached at the sizes mea
 
 from __future__ import annotations
 
-import copy
 import math
 from pathlib import Path
 
 from filmscale.continuum.materials import ElasticPlastic
-from filmscale.core.checks import check_keys, check_path, check_table, required
+from filmscale.core.checks import check_keys, check_path, check_table, preset_table, required
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.md.particles import (Grid, IndentLoading, ParticleImpactSpec, ParticleIndentSpec,
                                     ParticleMaterial, ParticleTarget)
-from filmscale.potentials.lammps_words import shown
 
 _AL = {"E": 70e9, "nu": 0.3, "density": 2700.0}
 _R = 1e-6
@@ -170,9 +168,7 @@ def load_spec(path: Path | str, kind: str, method: str | None = None):
 
 def preset(name: str, kind: str, method: str | None = None):
     """A named preset (``ci``, ``quick``, ``research``) of ``kind`` (indent or impact)."""
-    if name not in PRESETS[kind]:
-        raise InputError(f"preset = {shown(name)} is not one of {sorted(PRESETS[kind])}")
-    data = copy.deepcopy(PRESETS[kind][name])
+    data = preset_table(PRESETS[kind], name)
     if method is not None:
         data["method"] = method
     if data["method"] == "peri":

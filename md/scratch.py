@@ -59,7 +59,6 @@ box is periodic in x and y).
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import math
 from dataclasses import asdict, dataclass
@@ -67,7 +66,8 @@ from pathlib import Path
 
 import numpy as np
 
-from filmscale.core.checks import check_keys, check_path, check_real, check_table, required
+from filmscale.core.checks import (check_keys, check_path, check_real, check_table,
+                                   preset_table, required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.core.quantities import to_si
@@ -76,7 +76,7 @@ from filmscale.md.indentation import (IndentSpec, derive_seeds, integration_line
                                       lammps_number, minimize_lines, setup_lines, start_lines)
 from filmscale.md.indentation import DATA_FILE, SURFACE_FILE  # noqa: F401  (re-exported)
 from filmscale.md.lammps_units import lammps_to_si, si_to_lammps
-from filmscale.md.structures import Slab, SlabSpec, build_slab
+from filmscale.md.structures import Slab, SlabSpec
 from filmscale.potentials.lammps_words import shown
 
 #: Undisturbed surface kept on either side of the groove (in x beyond the stroke and its
@@ -665,10 +665,13 @@ def scratch_spec_from_mapping(data: dict, base_dir: Path | None = None) -> Scrat
     data.update(slab=slab, protocol={**protocol, "depth": stroke.reach})
     del data["scratch"]
     # the sample check of the indentation applies to the width; the length is checked here
-    indent = spec_from_mapping(data, base_dir)
-    built = elongated_slab(indent.slab, build_slab(indent.slab), length)
-    indent = dataclasses.replace(indent, slab_built=built)
-    return ScratchSpec(indent, stroke, length)
+    return scratch_of(spec_from_mapping(data, base_dir), stroke, length)
+
+
+def scratch_of(indent: IndentSpec, stroke: ScratchStroke, length: float) -> ScratchSpec:
+    """The scratch of ``indent``'s sample lengthened along x to ``length`` (m)."""
+    built = elongated_slab(indent.slab, indent.slab_built, length)
+    return ScratchSpec(dataclasses.replace(indent, slab_built=built), stroke, length)
 
 
 def load_scratch_spec(path: Path | str) -> ScratchSpec:
@@ -678,9 +681,7 @@ def load_scratch_spec(path: Path | str) -> ScratchSpec:
 
 
 def scratch_preset(name: str) -> ScratchSpec:
-    if name not in PRESETS:
-        raise InputError(f"preset = {shown(name)} is not one of {', '.join(PRESETS)}")
-    return scratch_spec_from_mapping(copy.deepcopy(PRESETS[name]))
+    return scratch_spec_from_mapping(preset_table(PRESETS, name))
 
 
 def record_to_si(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -45,11 +45,11 @@ Hertzian segment, a pop-in and an unloading within minutes on 2 cores) and ``res
 
 from __future__ import annotations
 
-import copy
 from dataclasses import replace
 from pathlib import Path
 
-from filmscale.core.checks import check_keys, check_path, check_table, required
+from filmscale.core.checks import (check_keys, check_path, check_table, preset_table,
+                                   required)
 from filmscale.core.errors import InputError
 from filmscale.core.files import read_toml
 from filmscale.md.amorphous_film import DEFAULT_GAP, AmorphousLayer
@@ -207,6 +207,4 @@ def load_spec(path: Path | str) -> IndentSpec:
 
 def preset(name: str) -> IndentSpec:
     """The named preset's spec."""
-    if name not in PRESETS:
-        raise InputError(f"preset = {shown(name)} is not one of {', '.join(PRESETS)}")
-    return spec_from_mapping(copy.deepcopy(PRESETS[name]))
+    return spec_from_mapping(preset_table(PRESETS, name))

@@ -70,6 +70,5 @@ def with_blocks(spec, store: Path, engine, *, quiet: bool = False):
                                slab_built=None)
     if indent is spec:
         return made
-    from filmscale.md.scratch import ScratchSpec, elongated_slab
-    built = elongated_slab(made.slab, made.slab_built, spec.length_x)
-    return ScratchSpec(dataclasses.replace(made, slab_built=built), spec.stroke, spec.length_x)
+    from filmscale.md.scratch import scratch_of
+    return scratch_of(made, spec.stroke, spec.length_x)

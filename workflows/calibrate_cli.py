@@ -13,7 +13,7 @@ import argparse
 import json
 import math
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +49,10 @@ def substrate_arg(text: str):
         raise argparse.ArgumentTypeError(f"--substrate: {err}") from None
 
 
+#: the layer's Poisson ratio assumed when neither --nu nor a run record gives one
+DEFAULT_NU = 0.3
+
+
 # ---- what a run record holds ---------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -64,6 +68,7 @@ class RecordFilm:
     substrate_key: str            #: tells substrates apart without computing them
     substrate_how: str            #: where the substrate's values come from
     spec: object = None           #: the parsed particle spec, or (potential record, crystal)
+    nu: float | None = None       #: the film's own Hill nu (an MD record's elastic constants)
 
     def substrate(self):
         from filmscale.continuum.materials import ElasticPlastic
@@ -163,6 +168,7 @@ def record_film(path) -> RecordFilm | None:
             if not (isinstance(fmt, str) and fmt.startswith("filmscale.md_")):
                 return None
             text = f["inputs/spec.json"][()] if "inputs/spec.json" in f else None
+            average = f["elastic"].attrs.get("average") if "elastic" in f else None
     except OSError:
         return None                  # read_curves says what is wrong with the file
     from filmscale.md.particle_run import RECORD_FORMAT as PARTICLES
@@ -171,7 +177,8 @@ def record_film(path) -> RecordFilm | None:
         return None
     try:
         spec = json.loads(text.decode() if isinstance(text, bytes) else text)
-        return (_md_film if fmt == MD else _particle_film)(str(path), spec)
+        film = (_md_film if fmt == MD else _particle_film)(str(path), spec)
+        return film if average is None else replace(film, nu=float(json.loads(average)["nu"]))
     except (KeyError, TypeError, ValueError) as err:     # InputError is a ValueError
         raise InputError(f"{path}: the run's spec in the record cannot be read: "
                          f"{err}") from None
@@ -192,6 +199,8 @@ class CurveInputs:
     contact_zero: str | None = None
     contact_zero_from: str = "default"
     notes: tuple[str, ...] = ()
+    nu: float = DEFAULT_NU        #: the layer's Poisson ratio (`layer_nu`)
+    nu_from: str = "default"
 
     @property
     def film_from(self) -> str:
@@ -209,7 +218,8 @@ class CurveInputs:
                                                      "name": s.name},
                 "from": self.film_from, "film_thickness_from": self.thickness_from,
                 "substrate_from": self.substrate_from, "substrate_how": self.substrate_how,
-                "contact_zero": self.contact_zero, "contact_zero_from": self.contact_zero_from}
+                "contact_zero": self.contact_zero, "contact_zero_from": self.contact_zero_from,
+                "nu": self.nu, "nu_from": self.nu_from}
 
     def lines(self) -> list[str]:
         """The inputs taken from run records, for the text output."""
@@ -235,41 +245,14 @@ class CurveInputs:
         return out
 
 
-#: the layer's Poisson ratio assumed when neither --nu nor a run record gives one
-DEFAULT_NU = 0.3
-
-
-def layer_nu(nu: float | None, paths: list) -> tuple[float, str]:
-    """(nu, where from): the option; else the mean Hill nu of the film's own elastic constants
-    that every file's MD record holds (the potential's crystal, or an amorphous film's block:
-    0.135 for the quick a-C block, whose E an assumed 0.3 moved by 10 %); else `DEFAULT_NU`."""
-    if nu is not None:
-        return nu, "option"
-    found = [record_nu(p) for p in paths]
-    if found and all(x is not None for x in found):
-        return float(sum(found) / len(found)), "record"
-    return DEFAULT_NU, "default"
-
-
-def record_nu(path) -> float | None:
-    """The Hill nu of the ``elastic`` group of an MD run record, or None (not one, or none)."""
-    if record_film(path) is None:
-        return None
-    import h5py
-    with h5py.File(path, "r") as f:
-        if "elastic" not in f or "average" not in f["elastic"].attrs:
-            return None
-        return float(json.loads(f["elastic"].attrs["average"])["nu"])
-
-
 def _source(curve) -> str:
     """What made a curve (``meta["source"]``; "" for a measured curve that says nothing)."""
     return str(curve.meta.get("source", ""))
 
 
 def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
-                 thickness: float | None, substrate, contact_zero: str | None = None
-                 ) -> CurveInputs:
+                 thickness: float | None, substrate, contact_zero: str | None = None,
+                 nu: float | None = None) -> CurveInputs:
     """The tip material, film thickness, substrate and contact zero of a calibration of the
     curves of ``files`` ((path, curves) pairs): the options where given, else what run records
     hold (a simulation's tip is rigid; a record's film and substrate; a particle model's
@@ -283,7 +266,22 @@ def curve_inputs(files: list[tuple[str, list]], tip_material: str | None,
         film = _film_of_records(files, records, thickness, substrate)
     else:
         film = _film_of_measured(files, thickness, substrate)
-    return CurveInputs(tip, tip_from, contact_zero=zero, contact_zero_from=zero_from, **film)
+    nu, nu_from = layer_nu(nu, list(records.values()))
+    return CurveInputs(tip, tip_from, contact_zero=zero, contact_zero_from=zero_from, nu=nu,
+                       nu_from=nu_from, **film)
+
+
+def layer_nu(nu: float | None, records: list) -> tuple[float, str]:
+    """(nu, where from): the option; else the mean Hill nu of the film's own elastic constants
+    that every file's MD record holds (the potential's crystal, or an amorphous film's block:
+    0.135 for the quick a-C block, whose E an assumed 0.3 lowered by 10 %); else
+    `DEFAULT_NU`."""
+    if nu is not None:
+        return nu, "option"
+    found = [r.nu for r in records if r is not None and r.nu is not None]
+    if records and len(found) == len(records):
+        return float(sum(found) / len(found)), "record"
+    return DEFAULT_NU, "default"
 
 
 def _tip_material(curves, tip_material: str | None) -> tuple[str, str]:
@@ -477,22 +475,21 @@ def cmd_calibrate(args) -> int:
     from filmscale.continuum.indentation.io import read_curves
     files = [(path, list(read_curves(path).values())) for path in args.curves]
     inputs = curve_inputs(files, args.tip_material, args.film_thickness, args.substrate,
-                          args.contact_zero)
+                          args.contact_zero, args.nu)
     if inputs.tip_material_from == "record":
         print("filmscale: tip material: rigid (from the record)", file=sys.stderr)
     for note in inputs.notes:
         print(f"filmscale: note: {note}", file=sys.stderr)
     curves = [c for _, cs in files for c in cs]
-    nu, nu_from = layer_nu(args.nu, [path for path, _ in files])
-    if nu_from == "record":
-        print(f"filmscale: nu {nu:.3g} (from the record: the film's own elastic constants, "
-              "Voigt-Reuss-Hill)", file=sys.stderr)
-    cal = calibrate(curves, nu=nu, tip=args.tip, tip_material=inputs.tip_material,
+    if inputs.nu_from == "record":
+        print(f"filmscale: nu {inputs.nu:.3g} (from the record: the film's own elastic "
+              "constants, Voigt-Reuss-Hill)", file=sys.stderr)
+    cal = calibrate(curves, nu=inputs.nu, tip=args.tip, tip_material=inputs.tip_material,
                     thickness=inputs.thickness, substrate=inputs.substrate, law=args.law,
                     layer=args.layer, contact_zero=inputs.contact_zero)
     check = cal.cross_check(args.tolerance, exclude=args.exclude)
     if args.json:
-        print(dumps({**_json(cal, check, inputs), "nu_from": nu_from}))
+        print(dumps({**_json(cal, check, inputs), "nu_from": inputs.nu_from}))
     else:
         print(cal.summary())
         print(f"  {check.text()}")

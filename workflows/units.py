@@ -41,9 +41,10 @@ def run_md(spec, path: Path, ranks: int):
     from filmscale.md.run import run_indentation
     from filmscale.md.structures import surface_normal
     from filmscale.workflows.amorphous_units import with_blocks
-    spec = with_blocks(spec, path.parent, EngineOptions(np=ranks))
+    engine = EngineOptions(np=ranks)
+    spec = with_blocks(spec, path.parent, engine)
     run = with_step_progress(spec.protocol.schedule().s_end, f"{path.name} (MD)",
-                             lambda progress: run_indentation(spec, path, EngineOptions(np=ranks),
+                             lambda progress: run_indentation(spec, path, engine,
                                                               progress=progress))
     record = {"wall_time": run.wall_time, **run_provenance(run)}
     layers = {"top": (spec.slab.films or (spec.slab.substrate,))[0]}

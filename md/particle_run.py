@@ -96,7 +96,7 @@ class ParticleRun:
         return LoadDisplacementCurve(
             h=self.depth, P=self.load, t=self.time, segment=segment, indenter=spec.tip,
             meta={"source": f"filmscale.md particle model ({spec.method})", "name": spec.name,
-                  "run_dir": str(self.run_dir)})
+                  "run_dir": str(self.run_dir), "base_depth": spec.grid.depth})
 
 
 def run_particles(spec: ParticleIndentSpec | ParticleImpactSpec, run_dir: Path | str,

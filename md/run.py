@@ -193,7 +193,10 @@ def read_run(spec: IndentSpec, run_dir: Path | str) -> IndentRun:
         indenter=spec.indenter.tip,
         meta={"source": "filmscale.md atomistic indentation", "name": spec.name,
               "run_dir": str(run_dir), "potential": spec.potential.name,
-              "potential_sha256": spec.potential.sha256})
+              "potential_sha256": spec.potential.sha256,
+              # the fixed atoms are the rigid base (`continuum.calibration.sphere`'s note)
+              "base_depth": float(lammps_to_si(z_surface, "length"))
+              - spec.slab.fixed_thickness})
     dumps = tuple(sorted((int(p.stem.split(".")[1]), p)
                          for p in (run_dir / "dumps").glob("indent.*.lammpstrj")))
     return IndentRun(spec=spec, run_dir=run_dir, curve=curve,

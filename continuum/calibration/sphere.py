@@ -167,8 +167,11 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     zero = _ZeroFit(fit_zero, max(h.max() for h, *_ in data))
     hertz_fraction = check_real("hertz_fraction", hertz_fraction, low=0.1, high=1.0)
     if split_at_pop_in and any(pop is not None for *_, pop in data):
-        return _sphere_past_pop_in(data, law, target, common, zero, hertz_fraction, curves)
-    return _sphere_joint(data, law, target, common, zero)
+        cal = _sphere_past_pop_in(data, law, target, common, zero, hertz_fraction, curves)
+    else:
+        cal = _sphere_joint(data, law, target, common, zero)
+    notes = _base_notes(curves, data, target, cal)
+    return dataclasses.replace(cal, warnings=(*cal.warnings, *notes)) if notes else cal
 
 
 class _ZeroFit:
@@ -328,15 +331,20 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
     else:
         # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
         # (first yield exactly at the deepest point)
-        ssr = ssr_el
-        (ln_e,), h0 = zero.split(efit.x)
-        E_star = math.exp(ln_e)
+        # on a film under a rigid tip the exact layered solution (as below a pop-in)
+        efit, E_star, h0, exact = _elastic_fit([(h, P, r, Pm) for h, P, r, Pm, _ in data],
+                                               law, target, zero)
+        ssr = float(efit.fun @ efit.fun)
         std_lnE = math.sqrt(zero.covariance(efit, N - 1 - zero.fitted)[0, 0])
         sigma_param = _lower_bound(zero.shifted(data, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
+        if exact and target.layered:
+            warnings.append("elastic loading on the film: the exact layered solution "
+                            "(Perriot & Barthel 2004)")
     warnings += zero.note(h0)
-    fitted = _fitted(data, law, target, E_star, sigma_y, h0) if yielded else _fitted(
-        data, law, target, E_star, elastic_sy, h0, yielding_substrate=False)
+    fitted = _fitted(data, law, target, E_star, sigma_y, h0) if yielded else tuple(
+        (h, P, target.hertz(np.clip(h - h0, 0.0, None), r, E_star, law, exact))
+        for h, P, r, *_ in data)
     return Calibration(
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",
@@ -344,6 +352,30 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
         fit_roles=tuple(np.full(h.size, FITS_E | (FITS_SIGMA_Y if yielded else 0), np.int8)
                         for h, *_ in data),
         contact_zero=h0, correlation=correlation, **common)
+
+
+def _elastic_fit(pre, law, target, zero):
+    """E* (and the contact zero) from elastic loading points ``pre`` [(h, P, R, P_max)], each
+    curve weighted by 1/P_max: Hertz with the reduced modulus felt at each approach, or, on a
+    film under a rigid tip, the exact layered solution. Returns the fit, E*, h0 and whether
+    the solution was the exact one."""
+    from scipy.optimize import least_squares
+    # a half-space is linear in E*, P = E* x with x = 4/3 sqrt(R) h^1.5: the start
+    x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
+    y = np.concatenate([P / Pm for h, P, r, Pm in pre])
+    # a film under a rigid tip: the exact layered elastic solution, not the Gao weighting
+    # (1-3 % off in load for the MD demo's Cu on Ni, docs/layered-contact.md)
+    exact = all(target.exact_elastic(float(h.max()), r) for h, P, r, Pm in pre)
+
+    def elastic_residuals(theta):
+        (ln_e,), h0 = zero.split(theta)
+        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e), law,
+                                             exact) - P) / Pm for h, P, r, Pm in pre])
+    efit = least_squares(elastic_residuals, zero.start([math.log(float(x @ y / (x @ x)))]),
+                         diff_step=1e-6, xtol=1e-14, ftol=1e-14,
+                         bounds=zero.bounds(-np.inf, np.inf))
+    (ln_e,), h0 = zero.split(efit.x)
+    return efit, math.exp(ln_e), h0, exact
 
 
 def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Calibration:
@@ -365,23 +397,7 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
                          f"pop-in load: a Hertz fit of "
                          f"E{' and the contact zero' * zero.fitted} needs at least "
                          f"{3 + zero.fitted}")
-    # Hertz with the reduced modulus felt at each approach; a half-space is linear in E*,
-    # P = E* x with x = 4/3 sqrt(R) h^1.5, which gives the start
-    x = np.concatenate([4 / 3 * math.sqrt(r) * h**1.5 / Pm for h, P, r, Pm in pre])
-    y = np.concatenate([P / Pm for h, P, r, Pm in pre])
-    # a film under a rigid tip: the exact layered elastic solution, not the Gao weighting
-    # (1-3 % off in load for the MD demo's Cu on Ni, docs/layered-contact.md)
-    exact = all(target.exact_elastic(float(h.max()), r) for h, P, r, Pm in pre)
-
-    def elastic_residuals(theta):
-        (ln_e,), h0 = zero.split(theta)
-        return np.concatenate([(target.hertz(np.clip(h - h0, 0.0, None), r, math.exp(ln_e), law,
-                                             exact) - P) / Pm for h, P, r, Pm in pre])
-    efit = least_squares(elastic_residuals, zero.start([math.log(float(x @ y / (x @ x)))]),
-                         diff_step=1e-6, xtol=1e-14, ftol=1e-14,
-                         bounds=zero.bounds(-np.inf, np.inf))
-    (ln_e,), h0 = zero.split(efit.x)
-    E_star = math.exp(ln_e)
+    efit, E_star, h0, exact = _elastic_fit(pre, law, target, zero)
     no_yield = _drops_without_yield(data, law, target, E_star, h0, exact)
     if no_yield is not None:
         joint = _sphere_joint([(h, P, r, Pm, None) for h, P, r, Pm, _ in data], law, target,
@@ -442,6 +458,46 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
         **{**common, "model": "pop-in law (elastic to the pop-in load"
                    + (": the exact layered solution" if exact else "")
                    + f", then {common['model']})"})
+
+
+#: a rigid base whose first-order stiffening of E stays under this is not mentioned
+BASE_NOTE_FROM = 0.02
+#: below this many contact radii a rigid base is beyond the first-order estimate
+BASE_FIRST_ORDER_FROM = 3.0
+
+
+def _base_notes(curves, data, target, cal) -> list[str]:
+    """What a rigid base under a simulated sample does to E (curves whose ``meta`` states its
+    ``base_depth`` H, m: an MD slab's fixed atoms, a particle block's base). It holds still a
+    point that in a half-space sinks by Boussinesq's u(H) = c P, c = (1 + nu)(3 - 2 nu) /
+    (2 pi E H) (as `md.particle_run.block_hertz_force`, with the substrate's E and nu under a
+    film), so a Hertz fit reads E high by about (1 + c P / h)^1.5 at the deepest point (h the
+    approach from the contact zero). Not corrected: a note per curve above `BASE_NOTE_FROM`,
+    and a plain warning where H is under `BASE_FIRST_ORDER_FROM` contact radii."""
+    medium = target.substrate if target.layered else None
+    E, nu = (medium.E, medium.nu) if medium is not None else (cal.E.value, target.nu)
+    notes = []
+    for c, (h, P, r, Pm, _) in zip(curves, data):
+        H = c.meta.get("base_depth")
+        if isinstance(H, bool) or not isinstance(H, (int, float)) or not H > 0:
+            continue
+        deepest = int(np.argmax(h))
+        approach = float(h[deepest]) - cal.contact_zero
+        if approach <= 0:
+            continue
+        a = math.sqrt(r * approach)
+        where = f"a rigid base {H:.3g} m under the surface ({H / a:.1f} contact radii)"
+        if H < BASE_FIRST_ORDER_FROM * a:
+            notes.append(f"{where} stiffens the contact beyond a first-order estimate: E reads "
+                         "high by an amount this calibration cannot state")
+            continue
+        held = (1 + nu) * (3 - 2 * nu) / (2 * math.pi * E * H) * float(P[deepest])
+        high = (1 + held / approach) ** 1.5 - 1
+        if high >= BASE_NOTE_FROM:
+            notes.append(f"{where} holds back about {held:.2g} m of the {approach:.2g} m "
+                         f"approach at the deepest point: E reads about {high:.1%} high "
+                         "(first order, Boussinesq; not corrected)")
+    return notes
 
 
 def _drops_without_yield(data, law, target, E_star, h0, exact) -> str | None:

@@ -43,6 +43,9 @@ from filmscale.md.scratch_run import analyze_scratch, run_scratch
 #: a residual groove shallower than this is no groove (m): elastic scratches of the ci film
 #: leave 0.001 nm, the first plastic one 0.36 nm (docs/md-indentation.md)
 GROOVE_FLOOR = 5e-11
+#: the stroke of a held load (m): the shortest a scratch spec takes, 0.04 of the ci contact
+#: radius at 90 nN
+HOLD_LENGTH = 1e-10
 #: Hertz peak shear stress over p0 (Johnson 1985, nu = 0.3), as `pop_in_shear_stress`
 SHEAR_OVER_P0 = 0.31
 
@@ -87,6 +90,27 @@ def calibrate_twin(curve, R: float, nu: float = 0.3) -> FilmYield:
     E_star = cal.E.value / (1.0 - nu**2)      # rigid tip: E = E* (1 - nu^2)
     return FilmYield(E_star, cal.pop_in["shear_stress"], cal.pop_in["load"],
                      cal.sigma_y.value, bool(cal.sigma_y.identified), R)
+
+
+def held_film(film: FilmYield, hold: LadderOnset) -> FilmYield:
+    """``film`` with its yield taken from a held-load ladder (``load_ladder(..., hold=True)``):
+    tau_c the Hertz peak shear stress at the lowest load that yielded in its hold, with the
+    twin's E*, so that P_y is that load; ValueError when no held load yielded."""
+    from filmscale.continuum.indentation.spherical import pop_in_shear_stress
+    if not math.isfinite(hold.onset_load):
+        raise ValueError("no held load yielded: hold heavier loads")
+    tau_c = pop_in_shear_stress(hold.onset_load, film.E_star, film.R)
+    return dataclasses.replace(film, tau_c=tau_c, pop_in_load=hold.onset_load)
+
+
+def held(spec: ScratchSpec, load: float, max_depth: float) -> ScratchSpec:
+    """`at_load` without the slide: the stroke shortened to `HOLD_LENGTH` and slowed so that
+    it takes as long as ``spec``'s, so that the tip sits at the load for the scratch's time."""
+    loaded = at_load(spec, load, max_depth)
+    duration = spec.stroke.length / spec.stroke.speed
+    stroke = dataclasses.replace(loaded.stroke, length=HOLD_LENGTH,
+                                 speed=HOLD_LENGTH / duration)
+    return dataclasses.replace(loaded, stroke=stroke)
 
 
 def at_load(spec: ScratchSpec, load: float, max_depth: float) -> ScratchSpec:
@@ -156,14 +180,17 @@ def ladder_point(spec: ScratchSpec, run_dir: Path | str,
 
 
 def load_ladder(spec: ScratchSpec, loads: Sequence[float], max_depth: float,
-                run_root: Path | str, engine: EngineOptions = EngineOptions()) -> LadderOnset:
+                run_root: Path | str, engine: EngineOptions = EngineOptions(),
+                hold: bool = False) -> LadderOnset:
     """Scratch ``spec`` at each of ``loads`` (N, increasing) in ``run_root/load_K`` and find
-    the onset (module docstring)."""
+    the onset (module docstring); with ``hold`` each load is `held` instead (the film's
+    first yield under a sustained load, for the scratch's time)."""
     loads = [float(F) for F in loads]
     if not loads or any(b <= a for a, b in zip(loads, loads[1:])):
         raise InputError(f"loads = {loads}: give one or more, increasing")
     root = Path(run_root)
-    points = tuple(ladder_point(at_load(spec, F, max_depth), root / f"load_{k}", engine)
+    loaded = held if hold else at_load
+    points = tuple(ladder_point(loaded(spec, F, max_depth), root / f"load_{k}", engine)
                    for k, F in enumerate(loads))
     first = next((k for k, p in enumerate(points) if p.grooved), None)
     if first is None:

@@ -96,6 +96,10 @@ class Calibration:
     #: correlation coefficient of the E and sigma_y estimates (0: uncorrelated or unknown;
     #: sphere fits give it from their covariance, an ensemble from its members' scatter)
     correlation: float = 0.0
+    #: the curves' load drops were found not followed by yield (an amorphous film's: the
+    #: loading climbs back onto the elastic law), so they are no pop-in and the cross-check
+    #: does not split the curves at them
+    elastic_drops: bool = False
     fitted_curves: tuple = field(default=(), repr=False, compare=False)
     #: per point of each fitted curve, what it was fitted for: a sum of `FITS_E` and
     #: `FITS_SIGMA_Y` (0: not fitted; empty: not recorded)
@@ -163,7 +167,7 @@ class Calibration:
         resid, pieces, excluded = [], {"elastic": [], "burst": [], "flow": []}, 0
         for h, P, F in curves:
             r = (F - P) / P.max()
-            span = pop_in_range(h, P)
+            span = None if self.elastic_drops else pop_in_range(h, P)
             if span is None:
                 pieces["flow"].append(r)
             else:

@@ -9,7 +9,11 @@ Three routes, each with an uncertainty and a verdict on what the data can identi
   s^2 (J^T J)^-1 with s^2 the residual variance. sigma_y counts as identified only when the
   elastic-plastic fit beats Hertz alone by more than the noise (F test at 95 %); otherwise
   the data give a lower bound (first yield at the deepest point). The contact
-  laws are elastic-perfectly plastic, so n is never identifiable from a sphere.
+  laws are elastic-perfectly plastic, so n is never identifiable from a sphere. A curve
+  with a pop-in takes the pop-in law; a load drop after which the loading climbs back onto
+  the elastic law is no pop-in. A film's elastic loading under a rigid tip is the exact
+  layered solution. A simulated sample's rigid base (``meta["base_depth"]``) gets a
+  warning of how high it reads E.
 - `calibrate_sharp`: Berkovich or 70.3 degree cone curves through the reverse analysis of
   Dao et al. (2001) (`filmscale.continuum.reverse`): E*, sigma_y and n. One curve:
   Monte Carlo over the input uncertainties (C from its own least-squares fit, dP/dh and
@@ -402,7 +406,8 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
     if no_yield is not None:
         joint = _sphere_joint([(h, P, r, Pm, None) for h, P, r, Pm, _ in data], law, target,
                               common, zero)
-        return dataclasses.replace(joint, warnings=(no_yield, *joint.warnings))
+        return dataclasses.replace(joint, warnings=(no_yield, *joint.warnings),
+                                   elastic_drops=True)
     std_lnE = math.sqrt(zero.covariance(efit, n_pre - 1 - zero.fitted)[0, 0])
     # stage 2: the rest of each curve (all of a curve without a pop-in), from the zero
     post = [(h[pop + 1:] if pop is not None else h, P[pop + 1:] if pop is not None else P,

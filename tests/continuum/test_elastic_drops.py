@@ -34,6 +34,8 @@ def test_an_elastic_drop_is_not_a_pop_in():
     assert any("not followed by yield" in w for w in cal.warnings)
     assert abs(cal.E.value - E) < max(3 * cal.E.std, 0.01 * E)
     assert not cal.sigma_y.identified
+    # the check does not split the curve at a drop that was no pop-in
+    assert cal.elastic_drops and cal.cross_check().parts == {}
 
 
 def test_elastic_drops_over_seeds_are_unbiased():

@@ -107,7 +107,8 @@ def run_unit(src: CalibrationSource, spec, store: Path, wait: bool = True
             with atomic_path(path / CURVE_ARRAYS) as tmp:
                 with open(tmp, "wb") as f:
                     np.savez(f, h=curve.h, P=curve.P, segment=curve.segment)
-        finish_unit(path, {"indenter": curve.indenter.spec, **record}, files)
+        finish_unit(path, {"indenter": curve.indenter.spec,
+                           "base_depth": curve.meta.get("base_depth"), **record}, files)
     return path, False
 
 
@@ -150,8 +151,10 @@ def unit_curve(path: Path):
         from filmscale.md.record import read_record_curve
         c = read_record_curve(path / MD_RECORD)
         h, P, segment = c.h, c.P, c.segment
+    # the rigid base's depth, for the calibration's note on it (absent in older units)
+    base = {"base_depth": meta["base_depth"]} if meta.get("base_depth") else {}
     return LoadDisplacementCurve(h, P, segment=segment, indenter=meta["indenter"],
-                                 meta={"source": str(path)})
+                                 meta={"source": str(path), **base})
 
 
 def _file_digest(path: Path) -> str:

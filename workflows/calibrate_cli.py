@@ -470,6 +470,14 @@ def _json(cal, check, inputs: CurveInputs) -> dict:
             "calibration": d}
 
 
+def _one_protocol_runs(curves, inputs) -> bool:
+    """Several run records sampled alike (seeds of one spec): their seed-to-seed scatter,
+    which one joint fit's covariance does not hold, belongs in the calibration's stds."""
+    return (len(curves) > 1 and inputs.tip_material_from == "record"
+            and all(c.h.size == curves[0].h.size
+                    and np.array_equal(c.segment, curves[0].segment) for c in curves))
+
+
 def cmd_calibrate(args) -> int:
     from filmscale.continuum.calibration.route import calibrate
     from filmscale.continuum.indentation.io import read_curves
@@ -484,9 +492,15 @@ def cmd_calibrate(args) -> int:
     if inputs.nu_from == "record":
         print(f"filmscale: nu {inputs.nu:.3g} (from the record: the film's own elastic "
               "constants, Voigt-Reuss-Hill)", file=sys.stderr)
-    cal = calibrate(curves, nu=inputs.nu, tip=args.tip, tip_material=inputs.tip_material,
-                    thickness=inputs.thickness, substrate=inputs.substrate, law=args.law,
-                    layer=args.layer, contact_zero=inputs.contact_zero)
+    how = calibrate
+    if _one_protocol_runs(curves, inputs):
+        from filmscale.continuum.calibration.ensemble import calibrate_ensemble
+        how = calibrate_ensemble
+        print(f"filmscale: an ensemble of {len(curves)} runs of one protocol: each std the "
+              "larger of the joint fit's and the runs' standard error", file=sys.stderr)
+    cal = how(curves, nu=inputs.nu, tip=args.tip, tip_material=inputs.tip_material,
+              thickness=inputs.thickness, substrate=inputs.substrate, law=args.law,
+              layer=args.layer, contact_zero=inputs.contact_zero)
     check = cal.cross_check(args.tolerance, exclude=args.exclude)
     if args.json:
         print(dumps({**_json(cal, check, inputs), "nu_from": inputs.nu_from}))

@@ -198,3 +198,24 @@ def test_an_md_record_gives_its_films_own_poisson_ratio(records, tmp_path, capsy
     assert main(["calibrate", records[0], "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["nu_from"] == "default" and d["nu"] == 0.3
+
+
+def test_several_runs_of_one_protocol_are_an_ensemble(tmp_path, capsys):
+    """Three records of one protocol (the recorded ci run, its load scaled by 0.9 and 1.1:
+    seeds that differ) give E's std as the members' standard error, computed here from
+    each record calibrated alone, where one joint fit's covariance would say far less."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(md_run, "run_input", RecordedEngine())
+        mp.setattr(md_record, "lammps_info", dict)
+        run = md_run.run_indentation(preset("ci"), tmp_path / "run")
+        analysis = analyze_indentation(run)
+        paths = [str(md_record.write_record(
+            replace(run, curve=replace(run.curve, P=run.curve.P * k)), analysis, None,
+            tmp_path / f"seed{i}.h5")) for i, k in enumerate((1.0, 0.9, 1.1))]
+    alone = [_calibrate(capsys, p)[1]["E"] for p in paths]
+    status, d, err = _calibrate(capsys, *paths)
+    assert status == 0
+    assert "an ensemble of 3 runs of one protocol" in err
+    sem = np.std(alone, ddof=1) / np.sqrt(3)
+    assert d["E_std"] == pytest.approx(sem, rel=1e-9)
+    assert min(alone) < d["E"] < max(alone)

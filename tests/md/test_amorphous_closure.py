@@ -44,6 +44,12 @@ def test_the_disk_scene_quenches_calibrates_and_maps_its_overcoat(ran):
     block = read_amorphous_summary(blocks[0] / RECORD_NAME)
     assert top["structure"] == "amorphous" and top["E"] == pytest.approx(block["E"], rel=1e-9)
     assert cal["E_identified"] and 0 < cal["E_std"] < 0.2 * cal["E"]
+    # the film's drop is no pop-in (the loading climbs back onto the elastic law), and the
+    # calibration says how high the slab's rigid base reads E
+    with h5py.File(result.path, "r") as f:
+        warnings = json.loads(f["calibration/0"].attrs["calibration"])["warnings"]
+    assert any("not followed by yield" in w for w in warnings)
+    assert any("rigid base" in w and "high" in w for w in warnings)
     # the map yields somewhere (rule 4 keeps the law), and restitution falls there
     with h5py.File(result.path, "r") as f:
         e = f["impact/map/restitution"][()]
@@ -53,7 +59,9 @@ def test_the_disk_scene_quenches_calibrates_and_maps_its_overcoat(ran):
 
 
 @pytest.mark.xfail(strict=True, reason="the closure is not met at this size: the film's "
-                   "calibrated E is 0.69 of its block's (docs/amorphous.md, Closure)")
+                   "calibrated E is 1.15 of its block's, its slab's rigid base 2.4 nm down "
+                   "reading it about 14 % high by the calibration's own note "
+                   "(docs/amorphous.md, Closure)")
 def test_closure_the_films_calibrated_e_is_its_blocks_within_10_percent(ran):
     _, blocks, _, cal = ran
     block_E = read_amorphous_summary(blocks[0] / RECORD_NAME)["E"]

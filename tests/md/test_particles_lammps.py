@@ -38,6 +38,8 @@ def test_ci_indentation_follows_hertz_on_the_block(ci_indent):
     # (lattice noise: rings of particles enter the contact one at a time); R/10 reaches 4.6 %
     assert res.block_ratio == pytest.approx(1.0, abs=0.10)
     assert loading_error(ci_indent, 2 * R) < 0.15
+    # the curve names the block's rigid base for the calibration's note on it
+    assert ci_indent.curve().meta["base_depth"] == ci_indent.spec.grid.depth == 2 * R
     # the block is stiffer than a half-space: P_max / Hertz above 1 by the base's effect
     assert 1.0 < res.hertz_ratio < 1.25
     # elastic: the surface comes back (residual under 10 % of h_max)

@@ -219,3 +219,18 @@ def test_several_runs_of_one_protocol_are_an_ensemble(tmp_path, capsys):
     sem = np.std(alone, ddof=1) / np.sqrt(3)
     assert d["E_std"] == pytest.approx(sem, rel=1e-9)
     assert min(alone) < d["E"] < max(alone)
+
+
+def test_an_md_curve_carries_its_rigid_base_and_the_calibration_names_it(tmp_path, capsys):
+    """The base lies at the fixed atoms' top: the run's surface less the spec's
+    fixed_thickness. A record's calibration states what it does to E."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(md_run, "run_input", RecordedEngine())
+        mp.setattr(md_record, "lammps_info", dict)
+        run = md_run.run_indentation(preset("ci"), tmp_path / "run")
+        path = md_record.write_record(run, analyze_indentation(run), None, tmp_path / "ci.h5")
+    H = run.z_surface - preset("ci").slab.fixed_thickness
+    assert run.curve.meta["base_depth"] == pytest.approx(H, rel=1e-12)
+    status, d, _ = _calibrate(capsys, str(path))
+    assert status == 0
+    assert any(w.startswith(f"a rigid base {H:.3g} m under the surface") for w in d["warnings"])

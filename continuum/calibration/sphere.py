@@ -335,20 +335,31 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
     else:
         # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
         # (first yield exactly at the deepest point)
-        # on a film under a rigid tip the exact layered solution (as below a pop-in)
-        efit, E_star, h0, exact = _elastic_fit([(h, P, r, Pm) for h, P, r, Pm, _ in data],
+        # on a film under a rigid tip the exact layered solution (as below a pop-in); a
+        # half-space keeps the law's own elastic branch
+        exact = all(target.exact_elastic(float(h.max()), r) for h, _, r, *_ in data)
+        if exact:
+            efit, E_star, h0, _ = _elastic_fit([(h, P, r, Pm) for h, P, r, Pm, _ in data],
                                                law, target, zero)
-        ssr = float(efit.fun @ efit.fun)
+            ssr = float(efit.fun @ efit.fun)
+        else:
+            ssr = ssr_el
+            (ln_e,), h0 = zero.split(efit.x)
+            E_star = math.exp(ln_e)
         std_lnE = math.sqrt(zero.covariance(efit, N - 1 - zero.fitted)[0, 0])
         sigma_param = _lower_bound(zero.shifted(data, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
-        if exact and target.layered:
+        if exact:
             warnings.append("elastic loading on the film: the exact layered solution "
                             "(Perriot & Barthel 2004)")
     warnings += zero.note(h0)
-    fitted = _fitted(data, law, target, E_star, sigma_y, h0) if yielded else tuple(
-        (h, P, target.hertz(np.clip(h - h0, 0.0, None), r, E_star, law, exact))
-        for h, P, r, *_ in data)
+    if yielded:
+        fitted = _fitted(data, law, target, E_star, sigma_y, h0)
+    elif exact:
+        fitted = tuple((h, P, target.hertz(np.clip(h - h0, 0.0, None), r, E_star, law, True))
+                       for h, P, r, *_ in data)
+    else:
+        fitted = _fitted(data, law, target, E_star, elastic_sy, h0, yielding_substrate=False)
     return Calibration(
         route="sphere", E=_modulus(target, E_star, std_lnE), sigma_y=sigma_param,
         uncertainty="least-squares covariance s^2 (J^T J)^-1",

@@ -43,8 +43,8 @@ from filmscale.md.scratch_run import analyze_scratch, run_scratch
 #: a residual groove shallower than this is no groove (m): elastic scratches of the ci film
 #: leave 0.001 nm, the first plastic one 0.36 nm (docs/md-indentation.md)
 GROOVE_FLOOR = 5e-11
-#: the stroke of a held load (m): the shortest a scratch spec takes, 0.04 of the ci contact
-#: radius at 90 nN
+#: the stroke of a held load (m): the shortest a scratch spec takes, a tenth of the ci
+#: contact radius at 90 nN (0.95 nm)
 HOLD_LENGTH = 1e-10
 #: Hertz peak shear stress over p0 (Johnson 1985, nu = 0.3), as `pop_in_shear_stress`
 SHEAR_OVER_P0 = 0.31

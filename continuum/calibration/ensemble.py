@@ -87,7 +87,9 @@ def calibrate_ensemble(curves, *, nu: float, tip_material: str = "rigid",
     spread = ", ".join(f"{m.E.value:.4g}" for m in members)
     return replace(
         together, E=E, sigma_y=sigma_y,
-        uncertainty=f"one fit of {n} members (each with its own pop-in); std the larger of "
+        uncertainty=f"one fit of {n} members"
+                    + (" (each with its own pop-in)" if together.pop_in else "")
+                    + "; std the larger of "
                     f"the fit's and the standard error of the members' mean over the seeds "
                     f"(members' E alone: {spread} Pa)",
         sources=tuple(str(c.meta.get("source", f"seed {i}")) for i, c in enumerate(curves)),

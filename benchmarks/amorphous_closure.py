@@ -65,7 +65,7 @@ def row(path: str) -> dict:
                                 meta={k: v for k, v in curve.meta.items() if k != "base_depth"})
     corrected = calibrate(moved, **options)
     note = next((w for w in cal.warnings if "rigid base" in w), "")
-    stated = re.search(r"E reads about ([\d.]+)% high", note)
+    stated = re.search(r"E reads at least about ([\d.]+)% high", note)
     return {"record": path, "block_E": block_E(path), "E": cal.E.value, "E_std": cal.E.std,
             "base_excess": float(stated.group(1)) / 100 if stated else math.nan,
             "E_base_corrected": corrected.E.value, "nu": film.nu, "base_depth": H,

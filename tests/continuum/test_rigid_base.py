@@ -28,17 +28,27 @@ def based_curve(H, *, depth=0.1 * R, noise=0.002, seed=0, points=200):
 
 def stated_excess(cal) -> float:
     note = next(w for w in cal.warnings if "rigid base" in w)
-    return float(re.search(r"E reads about ([\d.]+)% high", note).group(1)) / 100
+    return float(re.search(r"E reads at least about ([\d.]+)% high", note).group(1)) / 100
 
 
 @pytest.mark.parametrize("H", [2e-6, 4e-6, 8e-6])
 def test_the_note_states_how_high_the_base_reads_e(H):
-    """Measured: E 18.6, 9.1 and 4.8 % high where the note says 17, 9 and 4 % (it is
+    """Measured: E 18.6, 9.1 and 4.8 % high where the note says 16.9, 8.5 and 4.3 % (it is
     first order, evaluated at the deepest point)."""
     cal = calibrate_sphere(based_curve(H), nu=NU)
     excess = cal.E.value / E - 1
     assert excess > 0.02
     assert stated_excess(cal) <= excess <= 1.25 * stated_excess(cal)
+
+
+@pytest.mark.parametrize("H", [2e-6, 4e-6, 8e-6])
+def test_with_the_zero_fitted_the_note_is_a_lower_estimate(H):
+    """A fitted contact zero absorbs part of the base's displacement as an offset and the
+    fit reads E higher still: measured 25.8, 12.4 and 6.5 % against 16.4, 8.4 and 4.2 %
+    stated, about 1.5 times, as the note says."""
+    cal = calibrate_sphere(based_curve(H), nu=NU, fit_zero=True)
+    ratio = (cal.E.value / E - 1) / stated_excess(cal)
+    assert 1.3 <= ratio <= 1.7
 
 
 def test_no_note_without_a_base_or_far_from_it():

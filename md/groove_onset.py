@@ -94,8 +94,9 @@ def calibrate_twin(curve, R: float, nu: float = 0.3) -> FilmYield:
 
 def held_film(film: FilmYield, hold: LadderOnset) -> FilmYield:
     """``film`` with its yield taken from a held-load ladder (``load_ladder(..., hold=True)``):
-    tau_c the Hertz peak shear stress at the lowest load that yielded in its hold, with the
-    twin's E*, so that P_y is that load; ValueError when no held load yielded."""
+    tau_c (Pa) the Hertz peak shear stress 0.31 p0 (Johnson 1985, nu = 0.3) at the lowest
+    load (N) that yielded in its hold, with the twin's E* (Pa), so that P_y is that load;
+    ValueError when no held load yielded."""
     from filmscale.continuum.indentation.spherical import pop_in_shear_stress
     if not math.isfinite(hold.onset_load):
         raise ValueError("no held load yielded: hold heavier loads")

@@ -473,9 +473,8 @@ def _json(cal, check, inputs: CurveInputs) -> dict:
 def _one_protocol_runs(curves, inputs) -> bool:
     """Several run records sampled alike (seeds of one spec): their seed-to-seed scatter,
     which one joint fit's covariance does not hold, belongs in the calibration's stds."""
-    return (len(curves) > 1 and inputs.tip_material_from == "record"
-            and all(c.h.size == curves[0].h.size
-                    and np.array_equal(c.segment, curves[0].segment) for c in curves))
+    from filmscale.continuum.calibration.ensemble import sampled_alike
+    return len(curves) > 1 and inputs.tip_material_from == "record" and sampled_alike(curves)
 
 
 def cmd_calibrate(args) -> int:

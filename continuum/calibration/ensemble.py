@@ -30,6 +30,14 @@ from .result import Calibration, Parameter
 from .route import calibrate
 
 
+def sampled_alike(curves) -> bool:
+    """The curves have one protocol's sampling: the same number of points and the same
+    segments (what `ensemble_mean` averages point by point)."""
+    first = curves[0]
+    return all(c.h.size == first.h.size and np.array_equal(c.segment, first.segment)
+               for c in curves)
+
+
 def ensemble_mean(curves) -> tuple[LoadDisplacementCurve, np.ndarray]:
     """The point-by-point mean curve of members sampled alike (one protocol: the same number
     of points and the same segments) and the seed-to-seed standard deviation of the load (N)
@@ -38,8 +46,7 @@ def ensemble_mean(curves) -> tuple[LoadDisplacementCurve, np.ndarray]:
     if len(curves) < 2:
         raise InputError(f"an ensemble needs at least 2 curves, got {len(curves)}")
     first = curves[0]
-    if any(c.h.size != first.h.size or not np.array_equal(c.segment, first.segment)
-           for c in curves):
+    if not sampled_alike(curves):
         raise InputError("the ensemble's curves are not sampled alike (number of points or "
                          "segments differ): they must come from one protocol")
     h = np.mean([c.h for c in curves], axis=0)

@@ -485,9 +485,9 @@ BASE_FIRST_ORDER_FROM = 3.0
 def _base_notes(curves, data, target, cal) -> list[str]:
     """What a rigid base under a simulated sample does to E (curves whose ``meta`` states its
     ``base_depth`` H, m: an MD slab's fixed atoms, a particle block's base). It holds still a
-    point that in a half-space sinks by Boussinesq's u(H) = c P, c = (1 + nu)(3 - 2 nu) /
-    (2 pi E H) (as `md.particle_run.block_hertz_force`, with the substrate's E and nu under a
-    film), so a Hertz fit reads E high by about (1 + c P / h)^1.5 at the deepest point (h the
+    point that in a half-space sinks by Boussinesq's u(H) = c P on the load's axis (m, for P
+    in N), c = (1 + nu)(3 - 2 nu) / (2 pi E H) with E in Pa (Johnson 1985, section 3.2; as
+    `md.particle_run.block_hertz_force`, with the substrate's E and nu under a film), so a Hertz fit reads E high by about (1 + c P / h)^1.5 at the deepest point (h the
     approach from the contact zero). A fit that also fits the zero reads it about 1.5 times
     higher (tests/continuum/test_rigid_base.py), so the note states a lower estimate. Not
     corrected: a note per curve above `BASE_NOTE_FROM`, and a plain warning where H is under
@@ -495,7 +495,7 @@ def _base_notes(curves, data, target, cal) -> list[str]:
     medium = target.substrate if target.layered else None
     E, nu = (medium.E, medium.nu) if medium is not None else (cal.E.value, target.nu)
     notes = []
-    for c, (h, P, r, Pm, _) in zip(curves, data):
+    for c, (h, P, r, *_) in zip(curves, data):
         H = c.meta.get("base_depth")
         if isinstance(H, bool) or not isinstance(H, (int, float)) or not H > 0:
             continue

@@ -174,9 +174,9 @@ def convergence(lambdas):
     print("|---|---|---|" + "---|" * (len(per_panel) - 1))
     for ratio in (1 / 100,) + RATIOS:
         film, sub = materials(ratio)
-        args = (coated._shear_ratio(film, sub), film.nu, sub.nu)
+        key = coated._film_key(film, sub)
         for lam in lambdas:
-            phi = coated._phi(lam, *args)
+            phi = coated._phi(lam, key)
             m = max(1, math.ceil(lam / coated._PANEL_T))
             out = []
             for n in per_panel:

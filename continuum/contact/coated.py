@@ -56,7 +56,16 @@ series, Bessel transforms) agrees to 3e-6 (tests). One call takes ~1 ms with Phi
 cached (40 ms at a/t = 100), 15-60 ms with the table built (0.4 s at a/t = 100).
 
 Uses: the sphere's load-approach curve (`coated_contact`, `coated_sphere_load`) and the flat
-punch stiffness (`flat_punch_stiffness`, `apparent_modulus`). For any axisymmetric indenter on
+punch stiffness (`flat_punch_stiffness`, `apparent_modulus`).
+
+Stacks. The same equation holds for any bonded stack whose surface kernel C(k t_1) (t_1 the
+top layer's thickness, C normalised by the top layer's half-space response) tends to 1: only
+Phi changes. `stack_sphere_curve` and `stack_solution` take several layers on an elastic
+half-space or on a rigid base (`RIGID`: the bottom face held still, as an MD slab's fixed
+atoms or a particle block's base hold it). Their C is the plane-strain surface compliance of
+the stack (the normal mode of `sliding_layered.psv_coefficients`' recursion, which equals the
+axisymmetric Hankel kernel), with the rigid base's two displacement conditions in place of the
+substrate's continuity; docs/layered-contact.md, "Stacks and rigid bases". For any axisymmetric indenter on
 this (linear, axisymmetric) half-space dP/d(delta) equals the flat-punch stiffness at the
 current contact radius, so S(a) serves film-on-substrate models of indentation unloading.
 """
@@ -69,6 +78,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from filmscale.continuum.contact.sliding_layered import (continuity_matrix, decaying_modes,
+                                                         growing_modes)
 from filmscale.continuum.materials import ElasticPlastic
 from filmscale.core.checks import check_positive, check_real
 from filmscale.core.errors import InputError
@@ -84,6 +95,8 @@ _N_MAX = 4800
 #: contact radius over film thickness accepted (beyond, the film changes the substrate's
 #: load by ~ (t/a) C'(0)/C(0), docs/layered-contact.md)
 LAMBDA_MAX = 300.0
+#: a stack's base that holds the bottom of its lowest layer still (bonded, no displacement)
+RIGID = "rigid"
 
 
 def _shear_ratio(film: ElasticPlastic, substrate: ElasticPlastic) -> float:
@@ -108,6 +121,61 @@ def _kernel(x, film: ElasticPlastic, substrate: ElasticPlastic):
     return _compliance(x, _shear_ratio(film, substrate), film.nu, substrate.nu)
 
 
+def _stack_compliance(u, h, E, nu, rigid: bool):
+    """C(u = k t_1) of bonded layers on a half-space or a rigid base: h the layers'
+    thicknesses over the top one's, E their Young's moduli over the top one's and nu their
+    Poisson ratios (with one more E and nu for an elastic half-space under them). The surface
+    u_z of the normal mode (D0 = 1, D1 = 0 at the surface) over the top layer's half-space
+    value -2 (1 - nu_1^2)/E_1. The recursion runs from the bottom up: each interface gives the
+    up-going pair of the layer above as a reflection of its down-going pair; a rigid base
+    gives it from u_x = u_z = 0 at the lowest layer's bottom face."""
+    u = np.atleast_1d(np.asarray(u, dtype=float))
+    L, n = len(h), u.size
+    M = [continuity_matrix(v, e) for v, e in zip(nu, E)]
+    down0, up0 = decaying_modes(np.zeros(1))[0], growing_modes(np.zeros(1))[0]
+    if rigid:
+        t = u * h[-1]
+        reflect = np.linalg.solve(np.broadcast_to(M[L - 1][2:] @ up0, (n, 2, 2)),
+                                  -(M[L - 1][2:] @ decaying_modes(t)))
+        above = M[L - 1] @ (down0 + growing_modes(-t) @ reflect)
+        layers = range(L - 2, -1, -1)
+    else:
+        above = np.broadcast_to(M[L] @ down0, (n, 4, 2))
+        layers = range(L - 1, -1, -1)
+    for j in layers:
+        t = u * h[j]
+        A = np.empty((n, 4, 4))
+        A[:, :, :2], A[:, :, 2:] = M[j] @ up0, -above
+        reflect = np.linalg.solve(A, -(M[j] @ decaying_modes(t)))[:, :2]
+        above = M[j] @ (down0 + growing_modes(-t) @ reflect)
+    top = down0 + growing_modes(-u * h[0]) @ reflect
+    normal = np.broadcast_to(np.array([[1.0], [0.0]]), (n, 2, 1))    # D0 = 1, D1 = 0
+    u_z = np.einsum("j,njk,nk->n", M[0][3], top, np.linalg.solve(top[:, :2, :], normal)[..., 0])
+    return u_z / (-2.0 * (1.0 - nu[0] ** 2) / E[0])
+
+
+def _film_key(film: ElasticPlastic, substrate: ElasticPlastic) -> tuple:
+    """The kernel of a film on a half-space, as a hashable key of `_kernel_values`."""
+    return ("film", float(_shear_ratio(film, substrate)), float(film.nu), float(substrate.nu))
+
+
+def _stack_key(layers, base) -> tuple:
+    """The kernel of bonded ``layers`` [(thickness, material)] on ``base`` (a material or
+    `RIGID`), as a hashable key of `_kernel_values` (lengths over the top layer's thickness,
+    moduli over its E)."""
+    t1, E1 = layers[0][0], layers[0][1].E
+    mats = [m for _, m in layers] + ([] if base == RIGID else [base])
+    return ("stack", tuple(float(t / t1) for t, _ in layers), tuple(float(m.E / E1) for m in mats),
+            tuple(float(m.nu) for m in mats), base == RIGID)
+
+
+def _kernel_values(u, key: tuple):
+    """C(u) of the kernel a `_film_key` or `_stack_key` names."""
+    if key[0] == "film":
+        return _compliance(u, *key[1:])
+    return _stack_compliance(u, *key[1:])
+
+
 def _gauss_panels(edges, n):
     """Gauss-Legendre nodes and weights of n points on each panel between ``edges``."""
     x, w = np.polynomial.legendre.leggauss(n)
@@ -117,14 +185,14 @@ def _gauss_panels(edges, n):
 
 
 @lru_cache(maxsize=32)
-def _phi_table(ratio: float, nu_f: float, nu_s: float, eta_max: float):
+def _phi_table(key: tuple, eta_max: float):
     """Cubic spline of Phi(eta) = int_0^inf (C(u) - 1) cos(u eta) du on [0, eta_max]."""
     width = min(0.25, 4 * math.pi / eta_max)       # two periods of cos(u eta_max)
     # graded towards u = 0 down to 1e-6: a stiff film's C drops within u ~ E'_s/E'_f
     edges = np.concatenate([[0.0], np.geomspace(1e-6, width, 25),
                             np.arange(2 * width, _U_MAX + width, width)])
     u, w = _gauss_panels(edges, _U_NODES)
-    f = (_compliance(u, ratio, nu_f, nu_s) - 1.0) * w
+    f = (_kernel_values(u, key) - 1.0) * w
     n_geo = max(2, math.ceil(math.log(eta_max / _ETA_SPLIT) / math.log(_ETA_RATIO)) + 1)
     eta = np.concatenate([np.arange(0.0, _ETA_SPLIT, _ETA_STEP),
                           np.geomspace(_ETA_SPLIT, eta_max, n_geo)])
@@ -135,9 +203,9 @@ def _phi_table(ratio: float, nu_f: float, nu_s: float, eta_max: float):
     return CubicSpline(eta, values, bc_type=((1, 0.0), "not-a-knot"))
 
 
-def _phi(lam: float, ratio: float, nu_f: float, nu_s: float):
+def _phi(lam: float, key: tuple):
     """Phi's spline covering eta <= 2 lambda (tables for powers of 2, at least 16)."""
-    return _phi_table(ratio, nu_f, nu_s, 2.0 ** max(4, math.ceil(math.log2(2 * lam))))
+    return _phi_table(key, 2.0 ** max(4, math.ceil(math.log2(2 * lam))))
 
 
 def _nystrom(lam: float, phi, m: int, n: int):
@@ -174,8 +242,8 @@ class _Dimensionless(NamedTuple):
 
 
 @lru_cache(maxsize=256)
-def _solve_cached(lam, ratio, nu_f, nu_s, tol) -> _Dimensionless:
-    phi = _phi(lam, ratio, nu_f, nu_s)
+def _solve_cached(lam, key, tol) -> _Dimensionless:
+    phi = _phi(lam, key)
     m = max(1, math.ceil(lam / _PANEL_T))
     n, old = _N0, None
     while True:
@@ -192,15 +260,39 @@ def _solve_cached(lam, ratio, nu_f, nu_s, tol) -> _Dimensionless:
         old, n = new, 2 * n
 
 
-def _solve(a, thickness, film, substrate, tol) -> _Dimensionless:
+def _solve_key(a, thickness, key, tol) -> _Dimensionless:
+    """The dimensionless solution at contact radius ``a`` (m) for the kernel ``key`` of a top
+    layer of ``thickness`` (m)."""
     lam = check_positive("a", a, "m") / check_positive("thickness", thickness, "m")
     check_real("a/thickness", lam, low=0.0, high=LAMBDA_MAX, low_open=True)
     check_real("tol", tol, low=1e-12, high=1e-2)
+    return _solve_cached(float(lam), key, float(tol))
+
+
+def _solve(a, thickness, film, substrate, tol) -> _Dimensionless:
     for m in (film, substrate):
         if not isinstance(m, ElasticPlastic):
             raise InputError(f"film and substrate must be ElasticPlastic, got {m!r}")
-    return _solve_cached(float(lam), float(_shear_ratio(film, substrate)), float(film.nu),
-                         float(substrate.nu), float(tol))
+    return _solve_key(a, thickness, _film_key(film, substrate), tol)
+
+
+def _checked_stack(layers, base) -> tuple:
+    """``layers`` as a tuple of (thickness, ElasticPlastic), top first, and ``base``, checked."""
+    try:
+        layers = tuple((t, m) for t, m in layers)
+    except (TypeError, ValueError):
+        raise InputError("layers must be (thickness in m, ElasticPlastic) pairs, top first") \
+            from None
+    if not layers:
+        raise InputError("layers is empty: a stack needs at least one layer over its base")
+    for k, (t, m) in enumerate(layers):
+        check_positive(f"layers[{k}] thickness", t, "m")
+        if not isinstance(m, ElasticPlastic):
+            raise InputError(f"layers[{k}] material must be ElasticPlastic, got {m!r}")
+    if base != RIGID and not isinstance(base, ElasticPlastic):
+        raise InputError(f"base = {base!r} is neither an ElasticPlastic half-space nor "
+                         f"{RIGID!r}")
+    return layers, base
 
 
 class CoatedContact(NamedTuple):
@@ -293,18 +385,52 @@ def coated_sphere_curve(delta, R: float, thickness: float, film: ElasticPlastic,
     (geometric in a, widened until they do), interpolated by a cubic spline in
     (ln delta, ln P); 0 at approaches <= 0. About 10 times faster than `coated_sphere_load`
     on a 100-point curve and within 1e-5 of it (test)."""
+    t = check_positive("thickness", thickness, "m")
+    for m in (film, substrate):
+        if not isinstance(m, ElasticPlastic):
+            raise InputError(f"film and substrate must be ElasticPlastic, got {m!r}")
+    return _sphere_curve(delta, R, t, film.plane_strain_modulus, _film_key(film, substrate),
+                         radii)
+
+
+def stack_sphere_curve(delta, R: float, layers, base=RIGID, radii: int = 24) -> np.ndarray:
+    """Elastic load (N) of a rigid sphere of radius ``R`` (m; paraboloid r^2/(2R)) at
+    approaches ``delta`` (m) into bonded ``layers`` [(thickness m, ElasticPlastic), top first]
+    on ``base``: an elastic half-space (ElasticPlastic) or `RIGID` (the lowest layer's bottom
+    held still). As `coated_sphere_curve` (spline over ``radii`` converged solutions); 0 at
+    approaches <= 0. The top layer's contact radius a/t_1 must stay <= `LAMBDA_MAX`."""
+    layers, base = _checked_stack(layers, base)
+    t1, top = layers[0]
+    return _sphere_curve(delta, R, t1, top.plane_strain_modulus, _stack_key(layers, base),
+                         radii)
+
+
+def stack_solution(a: float, R: float, layers, base=RIGID, tol: float = 1e-6) -> CoatedContact:
+    """`coated_solution` for bonded ``layers`` on ``base`` (as `stack_sphere_curve`): the
+    approach, load and flat-punch stiffness of a rigid sphere at contact radius ``a`` (m)."""
+    R = check_positive("R", R, "m")
+    layers, base = _checked_stack(layers, base)
+    t1, top = layers[0]
+    sol = _solve_key(a, t1, _stack_key(layers, base), tol)
+    E_p = top.plane_strain_modulus
+    return CoatedContact(sol.q * a * a / R, sol.p * E_p * a**3 / R, sol.s * E_p * a,
+                         sol.nodes, sol.change)
+
+
+def _sphere_curve(delta, R, t, E_p, key, radii) -> np.ndarray:
+    """Loads (N) at approaches ``delta`` (m) from ``radii`` solutions of the kernel ``key``
+    (top layer ``t`` m thick, plane-strain modulus ``E_p``), splined in (ln delta, ln P)."""
     from scipy.interpolate import CubicSpline
     delta = np.asarray(delta, dtype=float)
     out = np.zeros(delta.shape)
     positive = delta > 0
     if not positive.any():
         return out
-    R, t = check_positive("R", R, "m"), check_positive("thickness", thickness, "m")
+    R = check_positive("R", R, "m")
     d_min, d_max = float(delta[positive].min()), float(delta[positive].max())
-    E_p = film.plane_strain_modulus
 
     def approach(a):
-        return _solve(a, t, film, substrate, 1e-6).q * a * a / R
+        return _solve_key(a, t, key, 1e-6).q * a * a / R
     # Hertz's a = sqrt(R delta) to start; a stiff film on a soft substrate sinks as a whole,
     # so its approach at a given radius can be far larger: widen until bracketed
     lo, hi = math.sqrt(R * d_min), math.sqrt(R * d_max)
@@ -313,7 +439,7 @@ def coated_sphere_curve(delta, R: float, thickness: float, film: ElasticPlastic,
     while approach(hi) < d_max:
         hi *= 2
     a = np.geomspace(lo, hi, max(radii, 8))
-    sols = [_solve(float(r), t, film, substrate, 1e-6) for r in a]
+    sols = [_solve_key(float(r), t, key, 1e-6) for r in a]
     d = np.array([s.q for s in sols]) * a * a / R
     P = np.array([s.p for s in sols]) * E_p * a**3 / R
     out[positive] = np.exp(CubicSpline(np.log(d), np.log(P))(np.log(delta[positive])))

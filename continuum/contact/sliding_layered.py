@@ -60,7 +60,7 @@ from filmscale.core.errors import InputError
 __all__ = ["wavenumber_panels", "layered_cylinder_stresses", "layered_cylinder_sliding", "layered_cylinder_unit_fields",
            "LayerPeak",
            "LayeredSlidingResult", "psv_coefficients", "decaying_modes", "growing_modes",
-           "halfspace_modes"]
+           "halfspace_modes", "continuity_matrix"]
 
 #: s l at which the layered correction is cut off (e^{-45} (45)^2 ~ 6e-17)
 DECAY_CUT = 45.0
@@ -112,8 +112,9 @@ def _side(side):
 
 
 # ------------------------------------------------------------------ the per-k solution
-def _M(nu, E):
-    """Rows: D -> (D0, D1, eps_xx-like, u_z-like) continuity quantities (E scaled)."""
+def continuity_matrix(nu, E):
+    """Rows: D -> (D0, D1, eps_xx-like, u_z-like), the quantities continuous across a bonded
+    interface (E scaled: only ratios of the layers' E count)."""
     M = np.zeros((4, 4))
     M[0, 0] = 1.0
     M[1, 1] = 1.0
@@ -153,7 +154,7 @@ def psv_coefficients(s, h, nus, Es):
     """
     L = len(h)
     Ns = s.size
-    Ms = [_M(nu, E) for nu, E in zip(nus, Es)]
+    Ms = [continuity_matrix(nu, E) for nu, E in zip(nus, Es)]
     R = np.zeros((L, Ns, 2, 2))
     S = np.zeros((L, Ns, 2, 2))
     # top of the substrate: T = M Dd(0)

@@ -109,8 +109,8 @@ def test_load_converges_under_refinement(name):
     """a/t = 10: the load with N and 2N nodes (5 panels of 8 and 16) within 1e-4, and the
     accepted solution within 1e-6 of 32 nodes a panel."""
     film, lam = FILMS[name], 10.0
-    args = (coated._shear_ratio(film, SUB), film.nu, SUB.nu)
-    phi = coated._phi(lam, *args)
+    key = coated._film_key(film, SUB)
+    phi = coated._phi(lam, key)
 
     def load(n):
         J1, J2, e1, e2 = coated._nystrom(lam, phi, 5, n)

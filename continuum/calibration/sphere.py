@@ -12,8 +12,8 @@ Three routes, each with an uncertainty and a verdict on what the data can identi
   laws are elastic-perfectly plastic, so n is never identifiable from a sphere. A curve
   with a pop-in takes the pop-in law; a load drop after which the loading climbs back onto
   the elastic law is no pop-in. A film's elastic loading under a rigid tip is the exact
-  layered solution. A simulated sample's rigid base (``meta["base_depth"]``) gets a
-  warning of how high it reads E.
+  layered solution, with a simulated film's rigid base (``meta["base_depth"]``) under its
+  substrate; where the base is not in the model, a warning says how high it reads E.
 - `calibrate_sharp`: Berkovich or 70.3 degree cone curves through the reverse analysis of
   Dao et al. (2001) (`filmscale.continuum.reverse`): E*, sigma_y and n. One curve:
   Monte Carlo over the input uncertainties (C from its own least-squares fit, dP/dh and
@@ -162,6 +162,9 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
               "elastic branch the law's own") + (
         f" ({elastic}: deepest approach {deepest:.3g} R)" if elastic == "auto" else "")
     target = SphereTarget(nu, indenter, thickness, substrate)
+    base = _common_base(curves)
+    if target.layered and indenter is None and base is not None and base > target.thickness:
+        target = dataclasses.replace(target, base_depth=base)
     sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))
     common = dict(layer=layer, nu=nu, n=Parameter(
         float(n), math.nan, "", False,
@@ -311,6 +314,14 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
         lnE, joint_start = efit0.x[0], fit0.x
     efit, fit = _joint_fits(data, law, target, zero, lnE, ln_sy, elastic_sy, joint_start)
     ssr_el, ssr = float(efit.fun @ efit.fun), float(fit.fun @ fit.fun)
+    # on a film under a rigid tip the elastic alternative is the exact layered solution (as
+    # below a pop-in; with the slab's rigid base where it has one), so that the F test below
+    # weighs the plastic law against the best elastic model, not the Gao-weighted one; a
+    # half-space keeps the law's own elastic branch
+    exact = all(target.exact_elastic(float(h.max()), r) for h, _, r, *_ in data)
+    if exact:
+        exact_fit = _elastic_fit([(h, P, r, Pm) for h, P, r, Pm, _ in data], law, target, zero)
+        ssr_el = min(ssr_el, float(exact_fit[0].fun @ exact_fit[0].fun))
     physical, h0 = zero.split(fit.x)
     E_star, sigma_y = np.exp(physical)
     dof = N - 2 - zero.fitted
@@ -333,14 +344,10 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
                             "range")
         sigma_param = _yield_parameter(sigma_y, std_lnS)
     else:
-        # Hertz alone explains the data: E* from the elastic fit; sigma_y only bounded below
-        # (first yield exactly at the deepest point)
-        # on a film under a rigid tip the exact layered solution (as below a pop-in); a
-        # half-space keeps the law's own elastic branch
-        exact = all(target.exact_elastic(float(h.max()), r) for h, _, r, *_ in data)
+        # Hertz alone explains the data: E* from the elastic fit (the exact one on a film
+        # under a rigid tip); sigma_y only bounded below (first yield at the deepest point)
         if exact:
-            efit, E_star, h0, _ = _elastic_fit([(h, P, r, Pm) for h, P, r, Pm, _ in data],
-                                               law, target, zero)
+            efit, E_star, h0, _ = exact_fit
             ssr = float(efit.fun @ efit.fun)
         else:
             ssr = ssr_el
@@ -350,8 +357,7 @@ def _sphere_joint(data, law, target, common, zero) -> Calibration:
         sigma_param = _lower_bound(zero.shifted(data, h0), law, target, E_star)
         warnings.append(f"sigma_y not identified: {sigma_param.reason}")
         if exact:
-            warnings.append("elastic loading on the film: the exact layered solution "
-                            "(Perriot & Barthel 2004)")
+            warnings.append(target.exact_note())
     warnings += zero.note(h0)
     if yielded:
         fitted = _fitted(data, law, target, E_star, sigma_y, h0)
@@ -455,10 +461,9 @@ def _sphere_past_pop_in(data, law, target, common, zero, fraction, curves) -> Ca
     warnings += zero.note(h0)
     fitted = _fitted_with_pop_in(data, law, target, E_star, sigma_param.value, h0, exact)
     if target.layered:
-        warnings.append("elastic loading on the film: " + (
-            "the exact layered solution (Perriot & Barthel 2004)" if exact else
-            "Gao-weighted (the exact layered solution needs a rigid tip and contact radii "
-            f"up to {EXACT_MAX_RADIUS:g} film thicknesses)"))
+        warnings.append(target.exact_note() if exact else (
+            "elastic loading on the film: Gao-weighted (the exact layered solution needs a "
+            f"rigid tip and contact radii up to {EXACT_MAX_RADIUS:g} film thicknesses)"))
     resid = np.concatenate([(f - P) / P.max() for h, P, f in fitted])
     stats = pop_in_statistics(curves, E_star, target)
     return Calibration(
@@ -482,6 +487,17 @@ BASE_NOTE_FROM = 0.02
 BASE_FIRST_ORDER_FROM = 3.0
 
 
+def _common_base(curves) -> float | None:
+    """The rigid base depth (m) all ``curves`` state in ``meta["base_depth"]``, or None when
+    one lacks it or they differ (then the calibration notes the base instead of modelling
+    it)."""
+    depths = [c.meta.get("base_depth") for c in curves]
+    if not all(isinstance(H, (int, float)) and not isinstance(H, bool) and H > 0
+               for H in depths):
+        return None
+    return float(depths[0]) if max(depths) <= min(depths) * (1 + 1e-9) else None
+
+
 def _base_notes(curves, data, target, cal) -> list[str]:
     """What a rigid base under a simulated sample does to E (curves whose ``meta`` states its
     ``base_depth`` H, m: an MD slab's fixed atoms, a particle block's base). It holds still a
@@ -491,7 +507,14 @@ def _base_notes(curves, data, target, cal) -> list[str]:
     approach from the contact zero). A fit that also fits the zero reads it about 1.5 times
     higher (tests/continuum/test_rigid_base.py), so the note states a lower estimate. Not
     corrected: a note per curve above `BASE_NOTE_FROM`, and a plain warning where H is under
-    `BASE_FIRST_ORDER_FROM` contact radii."""
+    `BASE_FIRST_ORDER_FROM` contact radii. Where the exact elastic branch took the base
+    (``target.base_depth``), E carries no such error and only an identified sigma_y is
+    noted."""
+    if target.base_depth is not None and target.exact_note() in cal.warnings:
+        return ([] if not cal.sigma_y.identified else
+                ["the rigid base is in the elastic branch only: sigma_y comes from the "
+                 "elastic-plastic law, which has no base, and reads high by the base's "
+                 "stiffening"])
     medium = target.substrate if target.layered else None
     E, nu = (medium.E, medium.nu) if medium is not None else (cal.E.value, target.nu)
     notes = []

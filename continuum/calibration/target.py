@@ -11,6 +11,11 @@ calibrated layer in its place:
   model weights a layer stack (`filmscale.continuum.contact.profiles.StackProfile`,
   docs/physics.md section 7), so that the calibrated film goes unchanged into a scene's stack.
 
+A simulated film's slab stands on a rigid base (an MD slab's fixed atoms, a particle block's
+base): with ``base_depth`` H (m, below the surface) the exact elastic branch is the film on
+H - t of substrate on that base (`coated.stack_sphere_curve`), so the base's stiffening is in
+the model rather than in E.
+
 The tip counts through ``indenter`` (None: rigid, as the MD and particle tips are; a
 diamond tip for measured curves): 1/E* = 1/E_p + (1 - nu_i^2)/E_i. The regime of the law at
 each point is the one of the largest severity reached so far (a layered target's severity
@@ -52,12 +57,14 @@ CONTACT_ZEROS = ("fit", "fixed")
 @dataclass(frozen=True)
 class SphereTarget:
     """The layer under calibration (Poisson ratio ``nu``), alone or as a film of
-    ``thickness`` (m) on ``substrate``, pressed by a tip of material ``indenter``."""
+    ``thickness`` (m) on ``substrate``, pressed by a tip of material ``indenter``; a film's
+    slab may stand on a rigid base ``base_depth`` (m) under the surface."""
 
     nu: float
     indenter: ElasticPlastic | None = None
     thickness: float | None = None
     substrate: ElasticPlastic | None = None
+    base_depth: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "nu", check_real("nu", self.nu, low=-1.0, high=0.5,
@@ -71,6 +78,11 @@ class SphereTarget:
             if not isinstance(self.substrate, ElasticPlastic):
                 raise InputError(f"substrate must be an ElasticPlastic material, got "
                                  f"{self.substrate!r}")
+        if self.base_depth is not None:
+            if not self.layered:
+                raise InputError("base_depth is a film's slab's: a half-space has no base")
+            check_real("base_depth", self.base_depth, low=self.thickness, low_open=True,
+                       high=THICKNESS_MAX, unit="m")
 
     @property
     def layered(self) -> bool:
@@ -147,13 +159,20 @@ class SphereTarget:
         modulus felt at each approach (Gao-weighted on a film), or Sneddon's exact sphere
         when ``law`` has Sneddon's elastic branch (`contact.sneddon.SneddonElastic`).
         ``exact`` (a film, `exact_elastic`): the converged layered solution of a rigid
-        paraboloid (`coated.coated_sphere_curve`), times Sneddon's ratio of the sphere to the
+        paraboloid (`coated.coated_sphere_curve`; with ``base_depth``, the film and the
+        substrate above it on the rigid base, `coated.stack_sphere_curve`), times Sneddon's ratio of the sphere to the
         paraboloid on a half-space when ``law`` has Sneddon's branch (the two corrections
         combined to first order)."""
         if exact:
-            from filmscale.continuum.contact.coated import coated_sphere_curve
+            from filmscale.continuum.contact.coated import (RIGID, coated_sphere_curve,
+                                                            stack_sphere_curve)
             film = ElasticPlastic._trial(self.layer_modulus(E_star), self.nu, 1.0)
-            force = coated_sphere_curve(delta, R, self.thickness, film, self.substrate)
+            if self.base_depth is None:
+                force = coated_sphere_curve(delta, R, self.thickness, film, self.substrate)
+            else:
+                force = stack_sphere_curve(delta, R, [
+                    (self.thickness, film),
+                    (self.base_depth - self.thickness, self.substrate)], RIGID)
             if isinstance(law, SneddonElastic):
                 d = np.asarray(delta, dtype=float)
                 shape = np.ones(d.shape)
@@ -168,6 +187,13 @@ class SphereTarget:
             return sneddon_force(delta, R, felt)
         return hertz_force_unchecked(delta, R, felt)
 
+    def exact_note(self) -> str:
+        """What a calibration says when its elastic loading took the exact solution."""
+        return ("elastic loading on the film: the exact layered solution (Perriot & Barthel "
+                "2004)" + ("" if self.base_depth is None else
+                           f", on the slab's rigid base {eng(self.base_depth, 'm', 3)} under "
+                           "the surface"))
+
     def describe(self) -> str:
         tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"
         if not self.layered:
@@ -177,4 +203,7 @@ class SphereTarget:
                     else "sigma_y taken as the film's")
         return (f"film of {eng(self.thickness, 'm', 3)} on {s.name or 'substrate'} "
                 f"(E {eng(s.E, 'Pa', 3)}, "
-                f"nu {s.nu:.3g}, {strength}), Gao-weighted; {tip}")
+                f"nu {s.nu:.3g}, {strength}), Gao-weighted"
+                + ("" if self.base_depth is None else
+                   f" (exact elastic branch on a rigid base {eng(self.base_depth, 'm', 3)} "
+                   "down)") + f"; {tip}")

@@ -13,7 +13,8 @@ Three routes, each with an uncertainty and a verdict on what the data can identi
   with a pop-in takes the pop-in law; a load drop after which the loading climbs back onto
   the elastic law is no pop-in. A film's elastic loading under a rigid tip is the exact
   layered solution, with a simulated film's rigid base (``meta["base_depth"]``) under its
-  substrate; where the base is not in the model, a warning says how high it reads E.
+  substrate; where the base is not in the model (a half-space's), a warning says how high it
+  reads E.
 - `calibrate_sharp`: Berkovich or 70.3 degree cone curves through the reverse analysis of
   Dao et al. (2001) (`filmscale.continuum.reverse`): E*, sigma_y and n. One curve:
   Monte Carlo over the input uncertainties (C from its own least-squares fit, dP/dh and
@@ -88,7 +89,8 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
                      split_at_pop_in: bool = True, thickness: float | None = None,
                      substrate: ElasticPlastic | None = None,
                      fit_zero: bool = False,
-                     hertz_fraction: float = HERTZ_FRACTION) -> Calibration:
+                     hertz_fraction: float = HERTZ_FRACTION,
+                     model_base: bool = True) -> Calibration:
     """E and sigma_y of a layer from spherical loading curves: a half-space of the layer, or
     the layer as a film of ``thickness`` on ``substrate`` (`SphereTarget`).
 
@@ -127,6 +129,11 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
     hertz_fraction : float
         With a pop-in, E* comes from the loading below this fraction (0.1-1) of the pop-in
         load (`HERTZ_FRACTION`: why 0.5).
+    model_base : bool
+        True (default): a film's curves that all state one rigid base (``meta["base_depth"]``,
+        m; MD and particle records do) under a rigid tip take it into the exact elastic branch
+        (`SphereTarget.base_depth`). False: the base is only noted, with a first-order
+        estimate of how high it reads E (as for a half-space; for comparisons).
     fit_zero : bool
         Also fit the contact zero h0 (m), one for all curves: the law is evaluated at the
         approach h - h0. A simulated surface has no sharp zero (surface relaxation, thermal
@@ -162,7 +169,7 @@ def calibrate_sphere(curves, *, nu: float, R=None, layer: str = "layer",
               "elastic branch the law's own") + (
         f" ({elastic}: deepest approach {deepest:.3g} R)" if elastic == "auto" else "")
     target = SphereTarget(nu, indenter, thickness, substrate)
-    base = _common_base(curves)
+    base = _common_base(curves) if model_base else None
     if target.layered and indenter is None and base is not None and base > target.thickness:
         target = dataclasses.replace(target, base_depth=base)
     sources = tuple(str(c.meta.get("source", f"curve {i}")) for i, c in enumerate(curves))

@@ -14,7 +14,10 @@ calibrated layer in its place:
 A simulated film's slab stands on a rigid base (an MD slab's fixed atoms, a particle block's
 base): with ``base_depth`` H (m, below the surface) the exact elastic branch is the film on
 H - t of substrate on that base (`coated.stack_sphere_curve`), so the base's stiffening is in
-the model rather than in E.
+the model rather than in E. A half-space keeps the law's own elastic branch and a note on
+the base: on MD crystals the exact based solution read E well under the crystal's face (a
+5 nm Cu(001) slab 0.86 of its indentation modulus, against 1.04 without the base;
+docs/pipeline.md, "A rigid base under a simulated sample").
 
 The tip counts through ``indenter`` (None: rigid, as the MD and particle tips are; a
 diamond tip for measured curves): 1/E* = 1/E_p + (1 - nu_i^2)/E_i. The regime of the law at
@@ -80,7 +83,8 @@ class SphereTarget:
                                  f"{self.substrate!r}")
         if self.base_depth is not None:
             if not self.layered:
-                raise InputError("base_depth is a film's slab's: a half-space has no base")
+                raise InputError("base_depth is a film's slab's: a half-space keeps the law's "
+                                 "own elastic branch, without a base")
             check_real("base_depth", self.base_depth, low=self.thickness, low_open=True,
                        high=THICKNESS_MAX, unit="m")
 
@@ -160,9 +164,9 @@ class SphereTarget:
         when ``law`` has Sneddon's elastic branch (`contact.sneddon.SneddonElastic`).
         ``exact`` (a film, `exact_elastic`): the converged layered solution of a rigid
         paraboloid (`coated.coated_sphere_curve`; with ``base_depth``, the film and the
-        substrate above it on the rigid base, `coated.stack_sphere_curve`), times Sneddon's ratio of the sphere to the
-        paraboloid on a half-space when ``law`` has Sneddon's branch (the two corrections
-        combined to first order)."""
+        substrate above it on the rigid base: `coated.stack_sphere_curve`), times
+        Sneddon's ratio of the sphere to the paraboloid on a half-space when ``law`` has
+        Sneddon's branch (the two corrections combined to first order)."""
         if exact:
             from filmscale.continuum.contact.coated import (RIGID, coated_sphere_curve,
                                                             stack_sphere_curve)
@@ -189,10 +193,10 @@ class SphereTarget:
 
     def exact_note(self) -> str:
         """What a calibration says when its elastic loading took the exact solution."""
-        return ("elastic loading on the film: the exact layered solution (Perriot & Barthel "
-                "2004)" + ("" if self.base_depth is None else
-                           f", on the slab's rigid base {eng(self.base_depth, 'm', 3)} under "
-                           "the surface"))
+        base = ("" if self.base_depth is None else
+                f", on the slab's rigid base {eng(self.base_depth, 'm', 3)} under the surface")
+        return "elastic loading on the film: the exact layered solution (Perriot & Barthel " \
+            "2004)" + base
 
     def describe(self) -> str:
         tip = "rigid tip" if self.indenter is None else f"{self.indenter.name or 'elastic'} tip"

@@ -1,6 +1,8 @@
-"""A rigid base under a simulated sample stiffens its curve; the calibration says by how much.
+"""A rigid base under a simulated sample stiffens its curve. The calibration models a film's
+stated base in its exact elastic branch; where it does not (a half-space, or
+``model_base=False``), it says by how much the base reads E high.
 
-The curves are written here: Hertz's rigid sphere on a half-space (Johnson 1985), with the
+The note's curves are written here: Hertz's rigid sphere on a half-space (Johnson 1985), with the
 approach held back by Boussinesq's displacement at the base's depth H, u(H) = c P,
 c = (1 + nu)(3 - 2 nu) / (2 pi E H) (the first-order block of docs/particles.md)."""
 
@@ -93,3 +95,8 @@ def test_a_film_on_a_slab_with_its_base_in_the_model_reads_its_own_e():
     assert not any("reads" in w and "high" in w for w in modelled.warnings)
     free = calibrate_sphere(curve({}), nu=NU, thickness=t, substrate=substrate)
     assert abs(free.E.value / E - 1) > 0.05
+    # model_base=False keeps the base out of the model and says so
+    noted = calibrate_sphere(curve({"base_depth": H}), nu=NU, thickness=t, substrate=substrate,
+                             model_base=False)
+    assert abs(noted.E.value / E - 1) > 0.05
+    assert any("rigid base" in w and "high" in w for w in noted.warnings)

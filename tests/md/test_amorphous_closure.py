@@ -45,11 +45,12 @@ def test_the_disk_scene_quenches_calibrates_and_maps_its_overcoat(ran):
     assert top["structure"] == "amorphous" and top["E"] == pytest.approx(block["E"], rel=1e-9)
     assert cal["E_identified"] and 0 < cal["E_std"] < 0.2 * cal["E"]
     # the film's drop is no pop-in (the loading climbs back onto the elastic law), and the
-    # calibration says how high the slab's rigid base reads E
+    # slab's rigid base is in the exact elastic branch, so no warning says it reads E high
     with h5py.File(result.path, "r") as f:
         warnings = json.loads(f["calibration/0"].attrs["calibration"])["warnings"]
     assert any("not followed by yield" in w for w in warnings)
-    assert any("rigid base" in w and "high" in w for w in warnings)
+    assert any("exact layered solution" in w and "rigid base" in w for w in warnings)
+    assert not any("reads" in w and "high" in w for w in warnings)
     # the map yields somewhere (rule 4 keeps the law), and restitution falls there
     with h5py.File(result.path, "r") as f:
         e = f["impact/map/restitution"][()]
@@ -58,11 +59,11 @@ def test_the_disk_scene_quenches_calibrates_and_maps_its_overcoat(ran):
     assert np.nanmin(e[~yielded]) == pytest.approx(1.0, abs=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="the closure is not met at this size: the film's "
-                   "calibrated E is 1.15 of its block's, its slab's rigid base 2.4 nm down "
-                   "reading it about 14 % high by the calibration's own note "
-                   "(docs/amorphous.md, Closure)")
-def test_closure_the_films_calibrated_e_is_its_blocks_within_10_percent(ran):
+def test_at_the_scenes_size_the_films_calibrated_e_is_its_blocks_within_10_percent(ran):
+    """One quench seed at the ci size, the slab's base in the model: 0.96 of the block
+    (1.15 before the base entered the model). The ci seeds scatter widely, so this is the
+    scene's check, not the issue's closure (the quick preset's, not met: docs/amorphous.md,
+    Closure)."""
     _, blocks, _, cal = ran
     block_E = read_amorphous_summary(blocks[0] / RECORD_NAME)["E"]
     assert cal["E"] == pytest.approx(block_E, rel=0.10)

@@ -29,6 +29,7 @@ _WHERE = {
     "SneddonElastic": "sneddon", "sneddon_force": "sneddon",
     "coated_solution": "coated", "coated_sphere_load": "coated",
     "flat_punch_stiffness": "coated", "apparent_modulus": "coated",
+    "stack_sphere_curve": "coated", "stack_solution": "coated",
     "DepthProfile": "profiles", "StackProfile": "profiles", "TableProfile": "profiles",
     "UniformProfile": "profiles",
     "UNLOADING_MODELS": "restitution", "thornton_restitution": "restitution",

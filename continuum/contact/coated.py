@@ -56,7 +56,9 @@ series, Bessel transforms) agrees to 3e-6 (tests). One call takes ~1 ms with Phi
 cached (40 ms at a/t = 100), 15-60 ms with the table built (0.4 s at a/t = 100).
 
 Uses: the sphere's load-approach curve (`coated_contact`, `coated_sphere_load`) and the flat
-punch stiffness (`flat_punch_stiffness`, `apparent_modulus`).
+punch stiffness (`flat_punch_stiffness`, `apparent_modulus`). For any axisymmetric indenter on
+this (linear, axisymmetric) half-space dP/d(delta) equals the flat-punch stiffness at the
+current contact radius, so S(a) serves film-on-substrate models of indentation unloading.
 
 Stacks. The same equation holds for any bonded stack whose surface kernel C(k t_1) (t_1 the
 top layer's thickness, C normalised by the top layer's half-space response) tends to 1: only
@@ -65,9 +67,7 @@ half-space or on a rigid base (`RIGID`: the bottom face held still, as an MD sla
 atoms or a particle block's base hold it). Their C is the plane-strain surface compliance of
 the stack (the normal mode of `sliding_layered.psv_coefficients`' recursion, which equals the
 axisymmetric Hankel kernel), with the rigid base's two displacement conditions in place of the
-substrate's continuity; docs/layered-contact.md, "Stacks and rigid bases". For any axisymmetric indenter on
-this (linear, axisymmetric) half-space dP/d(delta) equals the flat-punch stiffness at the
-current contact radius, so S(a) serves film-on-substrate models of indentation unloading.
+substrate's continuity; docs/layered-contact.md, "Stacks and rigid bases".
 """
 
 from __future__ import annotations

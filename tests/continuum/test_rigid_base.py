@@ -100,3 +100,26 @@ def test_a_film_on_a_slab_with_its_base_in_the_model_reads_its_own_e():
                              model_base=False)
     assert abs(noted.E.value / E - 1) > 0.05
     assert any("rigid base" in w and "high" in w for w in noted.warnings)
+
+
+def test_seeds_of_one_slab_share_its_base_and_different_slabs_do_not():
+    """Seeds of one MD spec state base depths a few tenths of a per cent apart (their
+    surfaces' thermal heights): one base at their mean. Slabs 10 % apart: the note."""
+    from filmscale.continuum.contact.coated import RIGID, stack_sphere_curve
+    from filmscale.continuum.materials import ElasticPlastic
+    film, substrate = ElasticPlastic(E, NU, 1e9), ElasticPlastic(300e9, 0.2, 5e9)
+    t, H = 0.5e-6, 1.5e-6
+    h = np.linspace(1e-3, 1.0, 120) * 0.05e-6
+
+    def curves(depths):
+        return [LoadDisplacementCurve(h, stack_sphere_curve(h, R, [(t, film), (H - t, substrate)],
+                                                             RIGID),
+                                      segment=np.zeros(h.size, int), indenter="sphere:1um",
+                                      meta={"base_depth": d}) for d in depths]
+    seeds = calibrate_sphere(curves([H, 1.003 * H, 0.998 * H]), nu=NU, thickness=t,
+                             substrate=substrate)
+    assert any("exact layered solution" in w and "rigid base" in w for w in seeds.warnings)
+    assert seeds.E.value == pytest.approx(E, rel=0.005)
+    slabs = calibrate_sphere(curves([H, 1.1 * H]), nu=NU, thickness=t, substrate=substrate)
+    assert not any("exact layered solution" in w and "rigid base" in w for w in slabs.warnings)
+    assert any("rigid base" in w and "high" in w for w in slabs.warnings)

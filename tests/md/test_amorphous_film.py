@@ -12,6 +12,7 @@ diamond(001) slab (about 30 s on one core)."""
 import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,7 +26,7 @@ from filmscale.md.amorphous_run import (analyze_amorphous, read_block, run_amorp
                                         write_amorphous_record)
 from filmscale.md.indentation import indentation_input
 from filmscale.md.lammps_input import check_input
-from filmscale.md.spec import spec_from_mapping
+from filmscale.md.spec import load_spec, spec_from_mapping
 from filmscale.md.structures import Crystal, SlabLayer, SlabSpec, build_slab
 from filmscale.potentials import get_potential
 
@@ -272,3 +273,14 @@ def test_md_scratch_of_an_amorphous_film_damages_it_under_the_tip_only(unit, tmp
     assert 0 < film["width"] < 0.6 * 2.14e-9 and film["depth"] < FILM
     assert substrate["width"] == 0.0
     assert math.isfinite(d["friction_mean"]) and d["normal_force_mean"] > 0
+
+
+@pytest.mark.parametrize("name", ["aC_on_diamond.toml", "aC_on_diamond_quick.toml",
+                                  "aC_on_diamond_closure.toml"])
+def test_the_shipped_amorphous_specs_load(name):
+    """The docs run these files (docs/amorphous.md): each loads as an amorphous film on
+    diamond under a sphere, its film a recipe's."""
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "md" / name)
+    film = spec.slab.films[0]
+    assert film.recipe is not None and film.recipe.element == "C"
+    assert spec.indenter.tip.spec.startswith("sphere:")

@@ -37,29 +37,26 @@ from filmscale.md.amorphous_run import read_amorphous_summary
 from filmscale.workflows.calibrate_cli import record_film
 
 
-def base_depth(path: str) -> float:
+def slab_facts(path: str) -> tuple[float, float]:
+    """The record's rigid base depth (m: the surface less the fixed atoms) and its film's
+    block E (Pa), from one read of the record."""
     with h5py.File(path, "r") as f:
         spec = json.loads(f["inputs/spec.json"][()])
-        return float(f.attrs["z_surface"]) - spec["slab"]["fixed_thickness"]
-
-
-def block_E(path: str) -> float:
-    with h5py.File(path, "r") as f:
-        spec = json.loads(f["inputs/spec.json"][()])
-    return read_amorphous_summary(spec["slab"]["films"][0]["block"]["source"])["E"]
+        H = float(f.attrs["z_surface"]) - spec["slab"]["fixed_thickness"]
+    return H, read_amorphous_summary(spec["slab"]["films"][0]["block"]["source"])["E"]
 
 
 def row(path: str) -> dict:
     film = record_film(path)
     substrate = film.substrate()
     curve = next(iter(read_curves(path).values()))
-    H = base_depth(path)
+    H, block_E = slab_facts(path)
     options = dict(nu=film.nu, tip_material="rigid", thickness=film.thickness,
                    substrate=substrate)
     cal = calibrate(dataclasses.replace(curve, meta={**curve.meta, "base_depth": H}), **options)
     free = calibrate(dataclasses.replace(
         curve, meta={k: v for k, v in curve.meta.items() if k != "base_depth"}), **options)
-    return {"record": path, "block_E": block_E(path), "E": cal.E.value, "E_std": cal.E.std,
+    return {"record": path, "block_E": block_E, "E": cal.E.value, "E_std": cal.E.std,
             "base_in_model": any("exact layered solution" in w and "rigid base" in w
                                  for w in cal.warnings),
             "E_half_space": free.E.value, "E_half_space_std": free.E.std,

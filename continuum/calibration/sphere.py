@@ -498,14 +498,21 @@ BASE_NOTE_FROM = 0.02
 BASE_FIRST_ORDER_FROM = 3.0
 
 
+def _base_depth(curve) -> float | None:
+    """The rigid base depth (m) a curve states in ``meta["base_depth"]``, or None."""
+    H = curve.meta.get("base_depth")
+    if isinstance(H, bool) or not isinstance(H, (int, float)) or not H > 0:
+        return None
+    return float(H)
+
+
 def _common_base(curves) -> float | None:
     """The rigid base depth (m) all ``curves`` state in ``meta["base_depth"]``: their mean
     where they lie within `BASE_SPREAD` of it (the seeds of one MD spec differ by their
     surface's thermal height), else None, as when one lacks it (then the calibration notes
     the base instead of modelling it)."""
-    depths = [c.meta.get("base_depth") for c in curves]
-    if not all(isinstance(H, (int, float)) and not isinstance(H, bool) and H > 0
-               for H in depths):
+    depths = [_base_depth(c) for c in curves]
+    if None in depths:
         return None
     mean = float(np.mean(depths))
     return mean if max(depths) - min(depths) <= BASE_SPREAD * mean else None
@@ -532,8 +539,8 @@ def _base_notes(curves, data, target, cal) -> list[str]:
     E, nu = (medium.E, medium.nu) if medium is not None else (cal.E.value, target.nu)
     notes = []
     for c, (h, P, r, *_) in zip(curves, data):
-        H = c.meta.get("base_depth")
-        if isinstance(H, bool) or not isinstance(H, (int, float)) or not H > 0:
+        H = _base_depth(c)
+        if H is None:
             continue
         deepest = int(np.argmax(h))
         approach = float(h[deepest]) - cal.contact_zero

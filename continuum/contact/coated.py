@@ -122,11 +122,12 @@ def _kernel(x, film: ElasticPlastic, substrate: ElasticPlastic):
 
 
 def _stack_compliance(u, h, E, nu, rigid: bool):
-    """C(u = k t_1) of bonded layers on a half-space or a rigid base: h the layers'
-    thicknesses over the top one's, E their Young's moduli over the top one's and nu their
-    Poisson ratios (with one more E and nu for an elastic half-space under them). The surface
-    u_z of the normal mode (D0 = 1, D1 = 0 at the surface) over the top layer's half-space
-    value -2 (1 - nu_1^2)/E_1. The recursion runs from the bottom up: each interface gives the
+    """C(u = k t_1) (dimensionless; k the wavenumber in 1/m, t_1 the top layer's thickness in
+    m) of bonded layers on a half-space or a rigid base: h the layers' thicknesses over t_1,
+    E their Young's moduli over the top one's and nu their Poisson ratios (with one more E and
+    nu for an elastic half-space under them). Perriot & Barthel's (2004) kernel, generalised:
+    the surface u_z of the normal mode (D0 = 1, D1 = 0 at the surface; the Airy-function modes
+    of `sliding_layered`) over the top layer's half-space value -2 (1 - nu_1^2)/E_1. The recursion runs from the bottom up: each interface gives the
     up-going pair of the layer above as a reflection of its down-going pair; a rigid base
     gives it from u_x = u_z = 0 at the lowest layer's bottom face."""
     u = np.atleast_1d(np.asarray(u, dtype=float))
@@ -397,8 +398,10 @@ def stack_sphere_curve(delta, R: float, layers, base=RIGID, radii: int = 24) -> 
     """Elastic load (N) of a rigid sphere of radius ``R`` (m; paraboloid r^2/(2R)) at
     approaches ``delta`` (m) into bonded ``layers`` [(thickness m, ElasticPlastic), top first]
     on ``base``: an elastic half-space (ElasticPlastic) or `RIGID` (the lowest layer's bottom
-    held still). As `coated_sphere_curve` (spline over ``radii`` converged solutions); 0 at
-    approaches <= 0. The top layer's contact radius a/t_1 must stay <= `LAMBDA_MAX`."""
+    held still). Perriot & Barthel's (2004) Fredholm equation with the stack's kernel
+    (module docstring, "Stacks"); as `coated_sphere_curve` (spline over ``radii`` converged
+    solutions); 0 at approaches <= 0. The top layer's contact radius a/t_1 must stay <=
+    `LAMBDA_MAX`."""
     layers, base = _checked_stack(layers, base)
     t1, top = layers[0]
     return _sphere_curve(delta, R, t1, top.plane_strain_modulus, _stack_key(layers, base),

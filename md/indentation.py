@@ -36,6 +36,18 @@ from filmscale.potentials.lammps_words import check_name, shown
 #: within 2.5 % of each other; 1000 doubles the load noise at a 4 fs step, and 10 lets atoms
 #: sit 0.3 A inside the sphere, which with the zero held lowers E by 10 %.
 DEFAULT_K = float(lammps_to_si(100.0, "indent_constant"))
+#: A cone pushes through ``fix wall/region`` on a moving ``region cone`` (harmonic: the force
+#: 2 eps (r_c - d) along the surface normal at distance d < r_c), not ``fix indent cone``:
+#: LAMMPS's indent cone pushes each atom along the line from the cone's mid-axis point, which
+#: no surface normal follows (measured: docs/md-indentation.md, "The cone's contact"). The
+#: region is the cone shrunk by ``CONE_RANGE`` along its normals, so that the force starts at
+#: the nominal surface; 2 A with the default K gives 40 eV/A at the region's surface, where
+#: LAMMPS stops the run, and 2 eps is the sphere's stiffness at ``CONE_REFERENCE_FORCE``.
+CONE_RANGE = 2e-10                                      #: m
+CONE_REFERENCE_FORCE = float(lammps_to_si(1.0, "force"))  #: N, 1 eV/A on one atom
+#: the region's axis sits this far off the indenter's y: LAMMPS's cone gives no force to an
+#: atom exactly on its axis (measured), and a lattice puts atoms there
+CONE_AXIS_OFFSET = 1e-13                                #: m
 SEED_MAX = 900_000_000       #: LAMMPS random seeds are integers in [1, 900000000]
 
 
@@ -50,6 +62,13 @@ def _radius(R) -> float:
     return check_real("indenter.radius", R, low=2e-10, high=1e-6, unit="m")
 
 
+def min_tip_radius(half_angle: float) -> float:
+    """The smallest apex flat (m) of a cone of ``half_angle`` (deg) whose region, shrunk by
+    `CONE_RANGE` along its normals, keeps a flat: r_c (1 - sin a) / cos a."""
+    a = math.radians(half_angle)
+    return CONE_RANGE * (1.0 - math.sin(a)) / math.cos(a)
+
+
 def _cone_geometry(half_angle, tip_radius) -> tuple[float, float]:
     return (check_real("indenter.half_angle", half_angle, low=10.0, high=85.0, unit="deg"),
             check_real("indenter.tip_radius", tip_radius, low=1e-11, high=1e-7, unit="m"))
@@ -60,11 +79,12 @@ class RigidIndenter:
     """The rigid indenter of an MD run: a continuum `Tip` acting through ``fix indent``.
 
     ``tip`` is a `Sphere` of radius R (2e-10 to 1e-6 m) or a `Cone` of half-angle 10-85 deg
-    (70.3 is the Berkovich equivalent) whose apex is a flat of ``tip_radius`` 1e-11 to 1e-7 m
-    (``fix indent cone`` needs a finite lower radius). The same object goes with the run's
-    curve to the analysis, so a cone keeps its apex radius there. The repulsion is
-    F(r) = -K (r - R)^2 inside the surface; ``K`` in N/m^2 (default 100 eV/A^3 =
-    1.6e13 N/m^2); ``height`` is a cone's axial length (m), which must exceed depth + gap.
+    (70.3 is the Berkovich equivalent) whose apex is a flat of ``tip_radius`` 1e-11 to 1e-7 m,
+    at least what its region needs (`min_tip_radius`). The same object goes with the run's
+    curve to the analysis, so a cone keeps its apex radius there. A sphere's repulsion is
+    ``fix indent``'s F(r) = -K (r - R)^2 inside the surface; ``K`` in N/m^2 (default
+    100 eV/A^3 = 1.6e13 N/m^2). A cone's is a spring of `wall_stiffness` along the surface
+    normal (`CONE_RANGE`); ``height`` is its axial length (m), which must exceed depth + gap.
     """
 
     tip: Sphere | Cone
@@ -77,6 +97,12 @@ class RigidIndenter:
             _radius(tip.R)
         elif isinstance(tip, Cone):
             _cone_geometry(tip.half_angle, tip.tip_radius)
+            if tip.tip_radius <= min_tip_radius(tip.half_angle):
+                raise InputError(
+                    f"indenter.tip_radius = {tip.tip_radius:.4g} m must exceed "
+                    f"{min_tip_radius(tip.half_angle):.4g} m at half_angle = "
+                    f"{tip.half_angle:g} deg: the cone's contact region is the cone shrunk by "
+                    f"{CONE_RANGE:g} m along its normals, and its apex flat must remain")
         else:
             raise InputError(f"indenter = {tip} must be a sphere or a cone")
         check_real("indenter.K", self.K, low=1e9, high=1e15, unit="N/m^2")
@@ -101,24 +127,38 @@ class RigidIndenter:
             return math.sqrt(max(0.0, 2.0 * R * depth - depth**2)) if depth < R else R
         return tip.tip_radius + max(depth, 0.0) * math.tan(math.radians(tip.half_angle))
 
+    @property
+    def wall_stiffness(self) -> float:
+        """A cone's contact spring, N/m: the slope of the sphere's law, 2 sqrt(K F), at
+        F = `CONE_REFERENCE_FORCE` (20 eV/A^2 at the default K)."""
+        return 2.0 * math.sqrt(self.K * CONE_REFERENCE_FORCE)
+
     def fix_command(self, x: float | str, y: float) -> str:
-        """``fix indent`` (metal units, lengths in A): a sphere centred on v_z_tip + R, or a
-        cone from v_z_tip (its apex flat) up to v_z_tip + height; ``x`` a number or the
-        name of an equal-style variable (``v_x_tip``: a moving indenter)."""
-        x = x if isinstance(x, str) else f"{x:.10g}"
-        K = si_to_lammps(self.K, "indent_constant")
+        """The indenter's fix, ``indenter`` (metal units, lengths in A; ``f_indenter[1..3]``
+        the force on it): ``fix indent`` with a sphere centred on v_z_tip + R, or
+        ``fix wall/region`` on a cone whose apex flat is at v_z_tip (its region moved there);
+        ``x`` a number or the name of an equal-style variable (``v_x_tip``: a moving
+        indenter)."""
         tip = self.tip
         if isinstance(tip, Sphere):
+            x = x if isinstance(x, str) else f"{x:.10g}"
+            K = si_to_lammps(self.K, "indent_constant")
             R = si_to_lammps(tip.R, "length")
             return (f"variable z_center equal v_z_tip+{R:.10g}\n"
                     f"fix indenter all indent {K:.10g} "
                     f"sphere {x} {y:.10g} v_z_center {R:.10g} units box")
-        r0 = si_to_lammps(tip.tip_radius, "length")
-        H = si_to_lammps(self.height, "length")
-        r1 = r0 + H * math.tan(math.radians(tip.half_angle))
-        return (f"variable z_top equal v_z_tip+{H:.10g}\n"
-                f"fix indenter all indent {K:.10g} "
-                f"cone z {x} {y:.10g} {r0:.10g} {r1:.10g} v_z_tip v_z_top units box")
+        alpha = math.radians(tip.half_angle)
+        rc, H = (si_to_lammps(v, "length") for v in (CONE_RANGE, self.height))
+        shrink = rc / math.cos(alpha)            # the flank moved in by rc along its normal
+        radius = [si_to_lammps(tip.tip_radius, "length") + z * math.tan(alpha) - shrink
+                  for z in (rc, H)]
+        eps = 0.5 * si_to_lammps(self.wall_stiffness, "stiffness")
+        c2 = y + si_to_lammps(CONE_AXIS_OFFSET, "length")
+        c1, move_x = (0.0, x) if isinstance(x, str) else (x, "NULL")
+        return (f"region indenter_body cone z {c1:.10g} {c2:.10g} {radius[0]:.10g} "
+                f"{radius[1]:.10g} {rc:.10g} {H:.10g} side out "
+                f"move {move_x} NULL v_z_tip units box\n"
+                f"fix indenter all wall/region indenter_body harmonic {eps:.10g} 1.0 {rc:.10g}")
 
     def to_dict(self) -> dict:
         return {"tip": self.tip.spec, "K": self.K, "height": self.height}

@@ -31,7 +31,8 @@ COMMANDS = frozenset({
 #: The fix styles filmscale generates (``fix ID group STYLE ...``).
 FIX_STYLES = frozenset({
     "addforce", "box/relax", "halt", "indent", "langevin", "nve", "print", "setforce",
-    "smd/adjust_dt", "smd/integrate_tlsph", "smd/integrate_ulsph", "smd/setvel"})
+    "smd/adjust_dt", "smd/integrate_tlsph", "smd/integrate_ulsph", "smd/setvel",
+    "wall/region"})
 #: Dump styles that only write text (``dump movie`` and ``image`` start external programs).
 DUMP_STYLES = frozenset({"custom"})
 #: Positions of the file arguments of the commands that name them (read or written).

@@ -47,7 +47,8 @@ absorbs it. At the withdrawal the tip atom stops being integrated and the indent
 gap + max_depth at ``protocol.speed``; a tip deeper than ``max_depth`` (for which the box and
 the withdrawal are sized) stops the run (``fix halt``).
 
-Forces are those of ``fix indent`` on the indenter: the normal force is its z component, the
+Forces are those of the indenter's fix (``fix indent`` for a sphere, the wall of
+`RigidIndenter.fix_command` for a cone) on the indenter: the normal force is its z component, the
 lateral force the x component with the sign that makes a force resisting the motion positive
 (-F_x on a pass along +x, +F_x on a pass back).
 

@@ -192,7 +192,7 @@ def run_scratch(spec: ScratchSpec, run_dir: Path | str,
     return read_scratch(spec, run_dir)
 
 
-def _read_dump(path: Path) -> dict:
+def read_dump_atoms(path: Path) -> dict:
     """id, type, x, y, z (m) of a ``write_dump ... id type x y z ...`` file."""
     lines = path.read_text().splitlines()
     head = next(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
@@ -216,7 +216,7 @@ def read_scratch(spec: ScratchSpec, run_dir: Path | str) -> ScratchRun:
     return ScratchRun(spec=spec, run_dir=run_dir,
                       data=record_to_si({n: data[:, i] for i, n in enumerate(columns)}),
                       z_surface=float(lammps_to_si(z_surface, "length")),
-                      final_atoms=_read_dump(run_dir / dump_name(spec.schedule().s_end)),
+                      final_atoms=read_dump_atoms(run_dir / dump_name(spec.schedule().s_end)),
                       parts=tuple(parts), wall_time=sum(p.get("wall_time", 0.0) for p in parts),
                       engine=state.get("engine", {}),
                       control=None if control is None else control.to_dict())
@@ -435,7 +435,7 @@ def damage_reference(run: ScratchRun) -> np.ndarray:
     equilibrated = run.run_dir / dump_name(run.spec.schedule().s_load)
     if any(layer.structure == "amorphous" for _, layer in run.spec.indent.slab.layers()) \
             and equilibrated.exists():
-        ref = _read_dump(equilibrated)
+        ref = read_dump_atoms(equilibrated)
         return np.column_stack([ref["x"], ref["y"], ref["z"]])[np.searchsorted(ref["id"],
                                                                               a["id"])]
     return lammps_to_si(run.spec.indent.slab_built.atoms.positions, "length")[a["id"] - 1]

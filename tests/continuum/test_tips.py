@@ -47,7 +47,7 @@ def test_spherical_cone_transition_is_smooth():
 
 
 def test_truncated_cone_area():
-    # LAMMPS fix indent cone: a flat of radius r0 at the apex, A = k (h_c + r0/tan(theta))^2
+    # the MD cone: a flat of radius r0 at the apex, A = k (h_c + r0/tan(theta))^2
     r0, theta = 2e-9, 70.3
     tip = Cone(theta, tip_radius=r0)
     sharp = Cone(theta)

@@ -105,20 +105,25 @@ def test_bad_specs_fail_before_any_input_is_written():
         _spec(**{"protocol.depht": 1e-10})
 
 
-def test_cone_indenter_input_uses_fix_indent_cone():
+def test_cone_indenter_input_is_a_wall_on_a_moving_cone_region():
+    """The cone's region is the tip shrunk by the wall's range along its normals: its flank
+    r_c / cos(alpha) further in at every height, its apex flat r_c up; it follows v_z_tip."""
     spec = _spec(indenter={"shape": "cone", "half_angle": 70.3, "tip_radius": 2e-10})
     text = indentation_input(spec)
-    half = math.radians(70.3)
-    line = re.search(r"fix indenter all indent \S+ cone z (.*) units box", text).group(1)
-    x, y, r_lo, r_hi, lo, hi = line.split()
-    # the cone widens by tan(70.3 deg) per unit height over its 50 A height
-    assert float(r_hi) - float(r_lo) == pytest.approx(50.0 * math.tan(half), rel=1e-9)
-    assert (lo, hi) == ("v_z_tip", "v_z_top")
+    half, rc = math.radians(70.3), 2.0
+    line = re.search(r"region indenter_body cone z (.*) side out move NULL NULL v_z_tip "
+                     r"units box", text).group(1)
+    x, y, r_lo, r_hi, lo, hi = (float(v) for v in line.split())
+    assert (lo, hi) == (rc, 50.0)
+    for z, r in ((lo, r_lo), (hi, r_hi)):       # the nominal flank, r0 + z tan(alpha), moved in
+        assert r == pytest.approx(2.0 + z * math.tan(half) - rc / math.cos(half), rel=1e-9)
+    assert "fix indenter all wall/region indenter_body harmonic" in text
+    assert "fix indenter all indent" not in text
 
 
 def test_md_cone_reaches_the_analysis_as_a_tip_object_with_its_apex_radius(tmp_path):
     """One indenter type crosses scales: the MD cone is a continuum `Cone` whose apex flat is
-    the radius `fix indent cone` gets (2 A here), and a curve carrying it keeps that radius
+    radius its contact region is built from (2 A here), and a curve carrying it keeps that radius
     through a curve file; its contact area at zero depth is the flat's, pi r0^2."""
     from filmscale.continuum.indentation.curves import LoadDisplacementCurve
     from filmscale.continuum.indentation.io import read_curves, write_curve_group
@@ -129,7 +134,8 @@ def test_md_cone_reaches_the_analysis_as_a_tip_object_with_its_apex_radius(tmp_p
     tip = spec.indenter.tip
     assert isinstance(tip, Cone) and tip.tip_radius == 2e-10 and tip.half_angle == 70.3
     r_lo = re.search(r"cone z \S+ \S+ (\S+) ", indentation_input(spec)).group(1)
-    assert float(r_lo) == pytest.approx(2.0, rel=1e-12)          # A
+    flat = 2.0 - 2.0 * (1 - math.sin(math.radians(70.3))) / math.cos(math.radians(70.3))
+    assert float(r_lo) == pytest.approx(flat, rel=1e-9)          # A, the flat 2 A in, shrunk
     assert float(tip.area(0.0)) == pytest.approx(math.pi * (2e-10)**2, rel=1e-12)
     h = np.linspace(0.0, 1e-9, 20)
     curve = LoadDisplacementCurve(h, 1e-6 * h, segment=np.zeros(h.size, int), indenter=tip)
@@ -143,5 +149,8 @@ def test_bad_cone_geometry_is_named_before_any_input():
         _spec(indenter={"shape": "cone", "half_angle": 70.3, "tip_radius": 0.0})
     with pytest.raises(InputError, match="indenter.half_angle"):
         _spec(indenter={"shape": "cone", "half_angle": 89.0})
+    # a 60 deg cone's region, shrunk 2 A along its normals, keeps no flat under 0.536 A
+    with pytest.raises(InputError, match=r"indenter.tip_radius = 5e-11 m must exceed 5.359e-11"):
+        _spec(indenter={"shape": "cone", "half_angle": 60.0, "tip_radius": 5e-11})
     with pytest.raises(InputError, match="indenter.radius"):
         _spec(indenter={"radius": 5e-6})

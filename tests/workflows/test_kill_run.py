@@ -3,8 +3,9 @@ command, rerun in the same store and onto the same output, completes with the re
 that was never killed, and no temporary file is left anywhere under the work folder (a killed
 process cannot remove its own; the next write into each folder does). Oracle: the same scene
 run alone in a store of its own. The kill moments are drawn from a seeded generator over the
-lone run's wall time, so the ten kills land in Python's start-up, the calibration unit, the
-impact unit and the result's write."""
+lone run's wall time, so the kills land in Python's start-up, the calibration unit, the
+impact unit and the result's write; the first waits until a unit has started, so that at least
+one kill cuts work short however loaded the machine is."""
 
 import json
 import signal
@@ -56,6 +57,21 @@ def _temporaries(folder: Path) -> list[Path]:
     return [p for p in folder.rglob("*") if TEMP_MARK in p.name]
 
 
+def _unfinished_units(store: Path) -> list[str]:
+    return [p.name for p in store.glob("*-*") if p.is_dir()
+            and not (p / "done.json").exists()] if store.exists() else []
+
+
+def _kill_inside_a_unit(proc: subprocess.Popen, store: Path, limit: float) -> None:
+    """Kill ``proc`` as soon as a unit of ``store`` has started and not finished: on a loaded
+    machine every seeded moment can land in Python's start-up, and this kill still cuts a unit
+    short (or, should the process finish first, kills nothing)."""
+    end = time.monotonic() + limit
+    while (time.monotonic() < end and proc.poll() is None
+           and not (_unfinished_units(store) or (store.exists() and _temporaries(store)))):
+        time.sleep(0.005)
+
+
 def test_sigkill_at_random_moments_then_rerun_gives_the_lone_run_result(tmp_path, film_csv):
     (tmp_path / "scene.toml").write_text(SCENE)
     start = time.monotonic()
@@ -72,11 +88,13 @@ def test_sigkill_at_random_moments_then_rerun_gives_the_lone_run_result(tmp_path
         store, out = ("store", "r.h5") if k % 2 else (f"store-{k}", f"r-{k}.h5")
         proc = subprocess.Popen(_command(store, out), cwd=tmp_path, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
-        time.sleep(moment)
+        if k == 0:
+            _kill_inside_a_unit(proc, tmp_path / store, 3 * wall + 30)
+        else:
+            time.sleep(moment)
         proc.send_signal(signal.SIGKILL)
         proc.wait(timeout=60)
-        cut = [p.name for p in (tmp_path / store).glob("*-*") if p.is_dir()
-               and not (p / "done.json").exists()] if (tmp_path / store).exists() else []
+        cut = _unfinished_units(tmp_path / store)
         left_behind += bool(_temporaries(tmp_path) or cut)
         rerun = subprocess.run(_command(store, out), cwd=tmp_path, capture_output=True,
                                text=True, timeout=300)

@@ -3,7 +3,7 @@ constant depth, against Goddard & Wilman's ploughing friction and against the in
 hardness of the same crystal and cone.
 
     .venv/bin/python benchmarks/md_cone_scratch.py --out DIR [--np 2] [--depth 1.2nm]
-        [--half-angle 60] [--seed 2027]
+        [--half-angle 60] [--seed 2027] [--spec OTHER.toml]
 
 Runs two MD runs in DIR (the scratch of `examples/md/cone_scratch_cu.toml`, a 45 deg cone
 0.8 nm deep unless told otherwise, and its indentation twin, `md.groove_onset.
@@ -50,8 +50,8 @@ from filmscale.md.scratch_run import analyze_scratch, groove_profile, run_scratc
 SPEC = Path(__file__).resolve().parents[1] / "examples" / "md" / "cone_scratch_cu.toml"
 
 
-def _spec(depth: float | None, half_angle: float | None, seed: int | None):
-    spec = load_scratch_spec(SPEC)
+def _spec(depth: float | None, half_angle: float | None, seed: int | None, path: Path = SPEC):
+    spec = load_scratch_spec(path)
     indent = spec.indent
     if half_angle is not None:
         cone = indent.indenter
@@ -110,13 +110,16 @@ def main(argv=None) -> None:
     parser.add_argument("--depth", default=None, help="scratch depth, e.g. 0.8nm")
     parser.add_argument("--half-angle", type=float, default=None, help="deg")
     parser.add_argument("--seed", type=int, default=None)
+    parser.add_argument("--spec", type=Path, default=SPEC, help="another scratch spec")
     args = parser.parse_args(argv)
     depth = None if args.depth is None else to_si("--depth", args.depth, "m")
-    spec = _spec(depth, args.half_angle, args.seed)
+    spec = _spec(depth, args.half_angle, args.seed, args.spec)
     engine = EngineOptions(np=args.np)
     root = Path(args.out)
     theta = spec.indent.indenter.tip.half_angle
     tag = f"theta{theta:g}_d{spec.stroke.depth * 1e9:g}nm_s{spec.indent.protocol.seed}"
+    if args.spec != SPEC:
+        tag = f"{spec.indent.name}_{tag}"
     t0 = time.perf_counter()
     scratch_run = run_scratch(spec, root / f"scratch_{tag}", engine)
     scratch = analyze_scratch(scratch_run)

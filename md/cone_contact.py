@@ -99,9 +99,14 @@ def cone_contact(atoms: dict, tip: Cone, apex: tuple[float, float, float], stiff
 
 
 def scratch_contact(run: ScratchRun) -> ConeContact:
-    """The contact of a cone scratch at the end of its stroke, still at depth (the run's dump
-    there): the steady stroke's contact where the groove behind it is complete."""
+    """The contact of a constant-depth cone scratch at the end of its stroke, still at depth
+    (the run's dump there): the steady stroke's contact where the groove behind it is
+    complete. Under load the apex's height is the feedback's, which no formula gives."""
     spec = run.spec
+    if spec.stroke.normal_load is not None:
+        raise InputError(f"scratch.normal_load = {spec.stroke.normal_load:.4g} N: the contact "
+                         "is read from a constant-depth scratch (scratch.depth), whose apex "
+                         "height the schedule gives")
     s = spec.schedule()
     step = s.s_unload
     apex = (float(s.tip_x(step, spec.x_start)), spec.y_center + CONE_AXIS_OFFSET,

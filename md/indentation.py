@@ -76,7 +76,7 @@ def _cone_geometry(half_angle, tip_radius) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class RigidIndenter:
-    """The rigid indenter of an MD run: a continuum `Tip` acting through ``fix indent``.
+    """The rigid indenter of an MD run: a continuum `Tip` acting through its LAMMPS fix.
 
     ``tip`` is a `Sphere` of radius R (2e-10 to 1e-6 m) or a `Cone` of half-angle 10-85 deg
     (70.3 is the Berkovich equivalent) whose apex is a flat of ``tip_radius`` 1e-11 to 1e-7 m,

@@ -77,7 +77,7 @@ def indentation_hardness(run) -> dict:
     r = tip.tip_radius + curve.h[end] * math.tan(math.radians(tip.half_angle))
     contact = indentation_contact(run)
     step = spec.protocol.schedule().s_unload
-    recorded = float(curve.P[np.argmin(np.abs(run.steps - step))])
+    recorded = float(run.curve.P[np.argmin(np.abs(run.steps - step))])   # steps: unfiltered
     return {"H_op": float(op.H), "H_nominal": float(curve.P[end]) / (math.pi * r * r),
             "H_contact": contact.normal_force / (math.pi * contact.radius**2),
             "P_loaded": float(curve.P[end]), "contact_radius": contact.radius,

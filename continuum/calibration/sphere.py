@@ -523,8 +523,9 @@ def _base_notes(curves, data, target, cal) -> list[str]:
     ``base_depth`` H, m: an MD slab's fixed atoms, a particle block's base). It holds still a
     point that in a half-space sinks by Boussinesq's u(H) = c P on the load's axis (m, for P
     in N), c = (1 + nu)(3 - 2 nu) / (2 pi E H) with E in Pa (Johnson 1985, section 3.2; as
-    `md.particle_run.block_hertz_force`, with the substrate's E and nu under a film), so a Hertz fit reads E high by about (1 + c P / h)^1.5 at the deepest point (h the
-    approach from the contact zero). A fit that also fits the zero reads it about 1.5 times
+    `md.particle_run.block_hertz_force`, with the substrate's E and nu under a film), so a
+    Hertz fit reads E high by about (1 + c P / h)^1.5 at the deepest point (h the approach
+    from the contact zero). A fit that also fits the zero reads it about 1.5 times
     higher (tests/continuum/test_rigid_base.py), so the note states a lower estimate. Not
     corrected: a note per curve above `BASE_NOTE_FROM`, and a plain warning where H is under
     `BASE_FIRST_ORDER_FROM` contact radii. Where the exact elastic branch took the base

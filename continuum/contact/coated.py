@@ -127,8 +127,8 @@ def _stack_compliance(u, h, E, nu, rigid: bool):
     E their Young's moduli over the top one's and nu their Poisson ratios (with one more E and
     nu for an elastic half-space under them). Perriot & Barthel's (2004) kernel, generalised:
     the surface u_z of the normal mode (D0 = 1, D1 = 0 at the surface; the Airy-function modes
-    of `sliding_layered`) over the top layer's half-space value -2 (1 - nu_1^2)/E_1. The recursion runs from the bottom up: each interface gives the
-    up-going pair of the layer above as a reflection of its down-going pair; a rigid base
+    of `sliding_layered`) over the top layer's half-space value -2 (1 - nu_1^2)/E_1. The
+    recursion runs from the bottom up: each interface gives the up-going pair of the layer above as a reflection of its down-going pair; a rigid base
     gives it from u_x = u_z = 0 at the lowest layer's bottom face."""
     u = np.atleast_1d(np.asarray(u, dtype=float))
     L, n = len(h), u.size

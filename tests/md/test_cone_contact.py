@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from filmscale.md.indentation import RigidIndenter
+from filmscale.md.indentation import CONE_AXIS_OFFSET, CONE_RANGE, RigidIndenter
 from filmscale.md.lammps_units import lammps_to_si, si_to_lammps
 
 ALPHA, R0, HEIGHT = 60.0, 3e-10, 3e-9      # deg, m, m
@@ -147,7 +147,8 @@ def test_the_contact_read_from_positions_is_the_walls_atom_by_atom(lammps_module
         lmp.close()
     kept = np.array(kept)
     atoms = {k: lammps_to_si(kept[:, i], "length") for i, k in enumerate("xyz")}
-    apex = (float(lammps_to_si(X_TIP, "length")), 1e-13, float(lammps_to_si(Z_TIP, "length")))
+    apex = (float(lammps_to_si(X_TIP, "length")), CONE_AXIS_OFFSET,
+            float(lammps_to_si(Z_TIP, "length")))
     contact = cone_contact(atoms, Cone(ALPHA, tip_radius=R0), apex, cone.wall_stiffness,
                            (1.6e-8, 1.6e-8))
     pushed = np.linalg.norm(f_lammps, axis=1) > 0
@@ -159,7 +160,7 @@ def test_the_contact_read_from_positions_is_the_walls_atom_by_atom(lammps_module
 
 def _inside_region(p, a, r0) -> bool:
     """Whether a point (A) lies inside the shrunk region (where LAMMPS stops a run)."""
-    rc = 2.0
+    rc = float(si_to_lammps(CONE_RANGE, "length"))
     r = math.hypot(p[0] - X_TIP, p[1])
     s = p[2] - Z_TIP
     return s >= rc and r <= r0 - rc * (1 - math.sin(a)) / math.cos(a) + (s - rc) * math.tan(a)
